@@ -1,0 +1,4 @@
+//! cellsurf: cellular Monte Carlo surface models.
+pub mod io;
+#[cfg(feature = "plot")]
+pub mod plot;
