@@ -1,0 +1,453 @@
+//! [`Growth`]: the state of a surface-growth run on a lattice.
+//!
+//! Cells are empty or occupied (burnt, solid, crystal). Every empty cell counts its occupied
+//! neighbours `b`; the *surface* (interface) sites are the empty cells with `b >= 1`
+//! (READING.md), kept in a [`Surface`] partitioned by `b`. Occupying a cell updates the
+//! counts of its neighbours and the surface incrementally in `O(z)`.
+//!
+//! The clock ([`Growth::time`]) counts Monte Carlo timesteps as the paper does: one pick of a
+//! surface site, accepted or not. The samplers that advance it live in [`crate::sampler`].
+//!
+//! Memory: 5 bytes per cell (state, slot), plus 4 bytes per surface site, plus 16 bytes per surface slot when a non-uniform weight is sampled exactly.
+
+use thiserror::Error;
+
+use crate::lattice::Lattice;
+use crate::rule::{RuleError, Sticking, Weight};
+use crate::sumtree::SumTree;
+use crate::surface::{SlotListener, Surface};
+
+/// State value of an occupied cell; empty cells hold their occupied-neighbour count.
+pub const OCCUPIED: u8 = u8::MAX;
+
+/// Errors while setting up or running growth.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum GrowthError {
+    /// The rule's neighbourhood size does not match the lattice.
+    #[error("the sticking rule is for z = {rule} neighbours but the lattice has z = {lattice}")]
+    NeighbourhoodMismatch {
+        /// z of the rule.
+        rule: usize,
+        /// z of the lattice.
+        lattice: usize,
+    },
+    /// A cell index is outside the lattice.
+    #[error("cell {cell} is outside the lattice of {len} cells")]
+    CellOutOfRange {
+        /// The index.
+        cell: usize,
+        /// Number of cells.
+        len: usize,
+    },
+    /// A rule parameter is invalid.
+    #[error(transparent)]
+    Rule(#[from] RuleError),
+}
+
+/// Drawing states of [`Growth::field_states`].
+pub mod draw_state {
+    /// An empty cell off the surface.
+    pub const EMPTY: u8 = 0;
+    /// A surface (interface) site.
+    pub const SURFACE: u8 = 1;
+    /// An occupied cell.
+    pub const OCCUPIED: u8 = 2;
+}
+
+/// A growth run: lattice, rule, occupancy, surface and clock.
+#[derive(Clone, Debug)]
+pub struct Growth {
+    pub(crate) lattice: Lattice,
+    pub(crate) rule: Sticking,
+    pub(crate) weight: Weight,
+    /// Per cell: [`OCCUPIED`], or the number of occupied neighbours.
+    pub(crate) state: Vec<u8>,
+    /// Per cell: its slot in `surface` (meaningful for surface sites only).
+    pub(crate) slot: Vec<u32>,
+    pub(crate) surface: Surface,
+    /// Per-slot weights `v`, kept only for exact sampling with a non-uniform weight.
+    pub(crate) tree: Option<SumTree>,
+    pub(crate) time: f64,
+    /// The time of the next acceptance, drawn by the exact sampler before a pause.
+    pub(crate) pending: Option<f64>,
+    pub(crate) accepted: u64,
+    pub(crate) occupied: usize,
+}
+
+/// Keeps the per-cell slot table in step with the surface.
+struct SlotSink<'a> {
+    slot: &'a mut [u32],
+}
+
+impl SlotListener for SlotSink<'_> {
+    #[inline(always)]
+    fn slot_of(&self, cell: usize) -> usize {
+        self.slot[cell] as usize
+    }
+    #[inline(always)]
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
+        self.slot[cell_a as usize] = a as u32;
+        self.slot[cell_b as usize] = b as u32;
+    }
+    #[inline(always)]
+    fn pushed(&mut self, cell: u32, slot: usize) {
+        self.slot[cell as usize] = slot as u32;
+    }
+    #[inline(always)]
+    fn popped(&mut self, _slot: usize) {}
+}
+
+/// Keeps the slot table and the per-slot weights in step with the surface.
+struct WeightSink<'a> {
+    slot: &'a mut [u32],
+    tree: &'a mut SumTree,
+    lattice: &'a Lattice,
+    weight: &'a Weight,
+}
+
+impl SlotListener for WeightSink<'_> {
+    #[inline(always)]
+    fn slot_of(&self, cell: usize) -> usize {
+        self.slot[cell] as usize
+    }
+    #[inline]
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
+        self.slot[cell_a as usize] = a as u32;
+        self.slot[cell_b as usize] = b as u32;
+        let (va, vb) = (self.tree.get(b), self.tree.get(a));
+        self.tree.set(a, va);
+        self.tree.set(b, vb);
+    }
+    #[inline]
+    fn pushed(&mut self, cell: u32, slot: usize) {
+        self.slot[cell as usize] = slot as u32;
+        self.tree.reserve_slot(slot);
+        // Checked over the whole lattice when the run was built.
+        let v = self.weight.at(self.lattice, cell as usize).unwrap_or(0.0);
+        self.tree.set(slot, v);
+    }
+    #[inline]
+    fn popped(&mut self, slot: usize) {
+        self.tree.set(slot, 0.0);
+    }
+}
+
+/// Occupies `cell` in `state` and `surface`, telling `sink` of every slot change; `slot`
+/// is the per-cell slot table that `sink` keeps (read here, written through `sink`).
+#[inline(always)]
+fn occupy_cell<L: SlotListener>(
+    lattice: &Lattice,
+    state: &mut [u8],
+    surface: &mut Surface,
+    cell: usize,
+    sink: &mut L,
+) -> bool {
+    let s = state[cell];
+    if s == OCCUPIED {
+        return false;
+    }
+    if s >= 1 {
+        let at = sink.slot_of(cell);
+        surface.remove(at, s as usize, sink);
+    }
+    state[cell] = OCCUPIED;
+    let list = lattice.neighbour_list(cell);
+    for &n in list.as_slice() {
+        let n = n as usize;
+        let sn = state[n];
+        if sn == OCCUPIED {
+            continue;
+        }
+        if sn == 0 {
+            surface.insert_class1(n as u32, sink);
+        } else {
+            let at = sink.slot_of(n);
+            surface.promote(at, sn as usize, sink);
+        }
+        state[n] = sn + 1;
+    }
+    true
+}
+
+impl Growth {
+    /// An empty lattice with the rule `p = v (b/z)^n`. With `per_site_weights` (needed by the
+    /// exact sampler when `weight` is not uniform) the surface keeps a sum tree of `v`.
+    ///
+    /// A custom weight is evaluated on every cell here, so that a value outside [0, 1] is
+    /// reported before the run starts.
+    pub fn new(
+        lattice: Lattice,
+        rule: Sticking,
+        weight: Weight,
+        per_site_weights: bool,
+    ) -> Result<Self, GrowthError> {
+        if rule.z() != lattice.z() {
+            return Err(GrowthError::NeighbourhoodMismatch {
+                rule: rule.z(),
+                lattice: lattice.z(),
+            });
+        }
+        if let Weight::Custom { .. } = weight {
+            for c in 0..lattice.len() {
+                weight.at(&lattice, c)?;
+            }
+        }
+        let n = lattice.len();
+        let z = lattice.z();
+        let tree = (per_site_weights && !weight.is_uniform()).then(|| SumTree::new(1024));
+        Ok(Growth {
+            lattice,
+            rule,
+            weight,
+            state: vec![0; n],
+            slot: vec![0; n],
+            surface: Surface::new(z),
+            tree,
+            time: 0.0,
+            pending: None,
+            accepted: 0,
+            occupied: 0,
+        })
+    }
+
+    /// The lattice.
+    pub fn lattice(&self) -> &Lattice {
+        &self.lattice
+    }
+    /// The sticking rule.
+    pub fn rule(&self) -> &Sticking {
+        &self.rule
+    }
+    /// The direction weight.
+    pub fn weight(&self) -> &Weight {
+        &self.weight
+    }
+    /// The surface sites.
+    pub fn surface(&self) -> &Surface {
+        &self.surface
+    }
+    /// Monte Carlo timesteps so far (picks, accepted or not; CA updates for the CA). An
+    /// `f64`: exact integers below `2^53`; beyond, a relative precision of `1e-16`, which
+    /// large `n` needs (a pick succeeds with probability as low as `(1/z)^n`).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    /// Accepted events (cells added by the samplers, not counting the initial shape).
+    pub fn accepted(&self) -> u64 {
+        self.accepted
+    }
+    /// Occupied cells.
+    pub fn occupied(&self) -> usize {
+        self.occupied
+    }
+    /// True when `cell` is occupied.
+    #[inline]
+    pub fn is_occupied(&self, cell: usize) -> bool {
+        self.state[cell] == OCCUPIED
+    }
+    /// Occupied neighbours of an empty cell (`None` for an occupied one).
+    pub fn occupied_neighbours(&self, cell: usize) -> Option<usize> {
+        let s = self.state[cell];
+        (s != OCCUPIED).then_some(s as usize)
+    }
+
+    /// Occupies `cell` (no effect if it already is), updating the surface.
+    pub fn occupy(&mut self, cell: usize) -> Result<(), GrowthError> {
+        if cell >= self.state.len() {
+            return Err(GrowthError::CellOutOfRange {
+                cell,
+                len: self.state.len(),
+            });
+        }
+        self.pending = None;
+        self.occupy_unchecked(cell);
+        Ok(())
+    }
+
+    /// Occupies every cell for which `inside(x, y)` holds, given physical positions.
+    pub fn occupy_where(&mut self, mut inside: impl FnMut(f64, f64) -> bool) {
+        for c in 0..self.lattice.len() {
+            let (x, y) = self.lattice.position(c);
+            if inside(x, y) {
+                self.pending = None;
+                self.occupy_unchecked(c);
+            }
+        }
+    }
+
+    #[inline]
+    pub(crate) fn occupy_unchecked(&mut self, cell: usize) {
+        let added = match self.tree.as_mut() {
+            None => occupy_cell(
+                &self.lattice,
+                &mut self.state,
+                &mut self.surface,
+                cell,
+                &mut SlotSink {
+                    slot: &mut self.slot,
+                },
+            ),
+            Some(tree) => occupy_cell(
+                &self.lattice,
+                &mut self.state,
+                &mut self.surface,
+                cell,
+                &mut WeightSink {
+                    slot: &mut self.slot,
+                    tree,
+                    lattice: &self.lattice,
+                    weight: &self.weight,
+                },
+            ),
+        };
+        self.occupied += added as usize;
+    }
+
+    /// The sticking probability `p = v (b/z)^n` of a surface site (Eq. 4 and 5).
+    #[inline]
+    pub fn probability(&self, cell: usize) -> f64 {
+        let s = self.state[cell];
+        if s == OCCUPIED || s == 0 {
+            return 0.0;
+        }
+        let v = self.weight.at(&self.lattice, cell).unwrap_or(0.0);
+        v * self.rule.p(s as usize)
+    }
+
+    /// The state of every cell for drawing: see [`draw_state`].
+    pub fn field_states(&self) -> Vec<u8> {
+        self.state
+            .iter()
+            .map(|&s| match s {
+                OCCUPIED => draw_state::OCCUPIED,
+                0 => draw_state::EMPTY,
+                _ => draw_state::SURFACE,
+            })
+            .collect()
+    }
+
+    /// Bytes of memory held by the run (lattice tables, per-cell state, surface).
+    pub fn memory_bytes(&self) -> usize {
+        self.state.capacity()
+            + self.slot.capacity() * 4
+            + self.surface.sites().len() * 4
+            + self.tree.as_ref().map_or(0, |t| t.capacity() * 16)
+    }
+
+    /// Checks every invariant against a recount from scratch (for tests): neighbour counts,
+    /// surface membership and classes, slot table, occupied count, per-slot weights.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        let mut occ = 0;
+        let mut on_surface = 0;
+        for c in 0..self.lattice.len() {
+            if self.state[c] == OCCUPIED {
+                occ += 1;
+                continue;
+            }
+            let b = self
+                .lattice
+                .neighbours(c)
+                .filter(|&n| self.state[n] == OCCUPIED)
+                .count();
+            if b != self.state[c] as usize {
+                return Err(format!(
+                    "cell {c}: stored b = {}, counted {b}",
+                    self.state[c]
+                ));
+            }
+            if b >= 1 {
+                on_surface += 1;
+                let slot = self.slot[c] as usize;
+                if self.surface.site(slot) as usize != c {
+                    return Err(format!("cell {c}: slot {slot} holds another site"));
+                }
+                if self.surface.class_of_slot(slot) != b {
+                    return Err(format!("cell {c}: in the wrong class"));
+                }
+                if let Some(t) = &self.tree {
+                    let v = self.weight.at(&self.lattice, c).unwrap_or(0.0);
+                    if t.get(slot) != v {
+                        return Err(format!("cell {c}: tree weight {} != {v}", t.get(slot)));
+                    }
+                }
+            }
+        }
+        if occ != self.occupied {
+            return Err(format!("occupied {} != counted {occ}", self.occupied));
+        }
+        if on_surface != self.surface.len() || !self.surface.check() {
+            return Err(format!(
+                "surface holds {} sites, counted {on_surface}",
+                self.surface.len()
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lattice::{Boundary, Neighbourhood};
+
+    #[test]
+    fn occupying_updates_counts_and_surface() {
+        for hood in [
+            Neighbourhood::Square4,
+            Neighbourhood::Square8,
+            Neighbourhood::Hex,
+        ] {
+            let l = Lattice::new(hood, 9, 8, Boundary::TORUS).unwrap();
+            let rule = Sticking::new(2.0, hood.z()).unwrap();
+            let mut g = Growth::new(l, rule, Weight::Isotropic, false).unwrap();
+            let c = g.lattice().index(4, 4);
+            g.occupy(c).unwrap();
+            assert_eq!(g.surface().len(), hood.z());
+            assert_eq!(g.surface().class_len(1), hood.z());
+            let mut x: u64 = 99;
+            for _ in 0..60 {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                g.occupy(((x >> 33) % 72) as usize).unwrap();
+                g.check_invariants().unwrap();
+            }
+            // Fill the torus: the surface empties.
+            for c in 0..72 {
+                g.occupy(c).unwrap();
+            }
+            assert_eq!(g.occupied(), 72);
+            assert!(g.surface().is_empty());
+            g.check_invariants().unwrap();
+        }
+    }
+
+    #[test]
+    fn per_site_weights_follow_swaps() {
+        let l = Lattice::new(Neighbourhood::Hex, 12, 10, Boundary::WALLS).unwrap();
+        let rule = Sticking::new(2.0, 6).unwrap();
+        let w = Weight::Axes { centre: (6.0, 4.0) };
+        let mut g = Growth::new(l, rule, w, true).unwrap();
+        assert!(g.tree.is_some());
+        for c in [50, 51, 63, 62, 40, 75, 0, 119] {
+            g.occupy(c).unwrap();
+            g.check_invariants().unwrap();
+        }
+    }
+
+    #[test]
+    fn out_of_range_cell_and_mismatched_rule_are_errors() {
+        let l = Lattice::new(Neighbourhood::Hex, 4, 4, Boundary::TORUS).unwrap();
+        let e = Growth::new(
+            l.clone(),
+            Sticking::new(1.0, 4).unwrap(),
+            Weight::Isotropic,
+            false,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("z = 4"));
+        let mut g =
+            Growth::new(l, Sticking::new(1.0, 6).unwrap(), Weight::Isotropic, false).unwrap();
+        assert!(g.occupy(16).is_err());
+    }
+}

@@ -1,0 +1,283 @@
+//! The sticking rule of the growth paper: `p = v(x, y) (b/z)^n`.
+//!
+//! [`Sticking`] holds the power-law part (Eq. 4 generalised to a neighbourhood of `z` cells)
+//! with tables for fast and underflow-free evaluation; [`Weight`] is the pluggable
+//! direction weight `v` (isotropic, the paper's Eq. 5, or any user function).
+
+use std::fmt;
+use std::sync::Arc;
+
+use thiserror::Error;
+
+use crate::lattice::Lattice;
+
+/// Errors in the sticking rule's parameters.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum RuleError {
+    /// The exponent is negative or not finite.
+    #[error("n = {0} is out of range: the power-law exponent must be a finite number >= 0")]
+    Exponent(f64),
+    /// The neighbourhood size is not supported.
+    #[error("neighbourhood size z = {0} is out of range: it must be between 1 and 8")]
+    NeighbourhoodSize(usize),
+    /// A weight function returned a value outside [0, 1].
+    #[error(
+        "weight v = {value} at position ({x:.3}, {y:.3}) is out of range: v multiplies a probability, so it must lie in [0, 1]"
+    )]
+    WeightValue {
+        /// The value returned.
+        value: f64,
+        /// Physical x of the site.
+        x: f64,
+        /// Physical y of the site.
+        y: f64,
+    },
+    /// The weight name is not known.
+    #[error("unknown weight '{0}': expected none (v = 1) or axes (Eq. 5)")]
+    UnknownWeight(String),
+}
+
+/// The power-law sticking probability `(b/z)^n` of Eq. (4), for `b = 0..=z`.
+///
+/// `b` is the number of occupied neighbours of the candidate (empty) site, `z` the
+/// neighbourhood size, `n >= 0` the power. Besides the plain probabilities it keeps the
+/// ratios `(b/b_ref)^n` for every pair, which never overflow and underflow only where the
+/// true ratio is below `1e-308`: the exact sampler works with those, so that `n = 1e4` is
+/// sampled correctly even though `(1/6)^n` is `0` in `f64`.
+#[derive(Clone, Debug)]
+pub struct Sticking {
+    n: f64,
+    z: usize,
+    /// `p[b] = (b/z)^n` (may underflow to 0 for large n).
+    p: [f64; 9],
+    /// `ln p[b] = n ln(b/z)` (finite for b >= 1, `-inf` for b = 0).
+    ln_p: [f64; 9],
+    /// `ratio[r][b] = (b/r)^n` for `b <= r`.
+    ratio: [[f64; 9]; 9],
+}
+
+impl Sticking {
+    /// The rule for exponent `n` (>= 0, finite) on a neighbourhood of `z` cells (1..=8).
+    pub fn new(n: f64, z: usize) -> Result<Self, RuleError> {
+        if !n.is_finite() || n < 0.0 {
+            return Err(RuleError::Exponent(n));
+        }
+        if !(1..=8).contains(&z) {
+            return Err(RuleError::NeighbourhoodSize(z));
+        }
+        let mut p = [0.0; 9];
+        let mut ln_p = [f64::NEG_INFINITY; 9];
+        let mut ratio = [[0.0; 9]; 9];
+        for b in 1..=z {
+            p[b] = power_law(b, z, n);
+            ln_p[b] = n * (b as f64 / z as f64).ln();
+        }
+        for r in 1..=z {
+            for b in 1..=r {
+                ratio[r][b] = (n * (b as f64 / r as f64).ln()).exp();
+            }
+        }
+        Ok(Sticking {
+            n,
+            z,
+            p,
+            ln_p,
+            ratio,
+        })
+    }
+
+    /// The exponent `n`.
+    pub fn n(&self) -> f64 {
+        self.n
+    }
+    /// The neighbourhood size `z`.
+    pub fn z(&self) -> usize {
+        self.z
+    }
+    /// `(b/z)^n` (Eq. 4). Zero for `b = 0`: a site with no occupied neighbour is not on the
+    /// surface.
+    #[inline]
+    pub fn p(&self, b: usize) -> f64 {
+        self.p[b]
+    }
+    /// `n ln(b/z)`, the logarithm of [`Sticking::p`], finite even where `p` underflows.
+    #[inline]
+    pub fn ln_p(&self, b: usize) -> f64 {
+        self.ln_p[b]
+    }
+    /// The row `(b/r)^n`, `b = 0..=8` (zero above `r`).
+    #[inline]
+    pub fn ratio_row(&self, r: usize) -> &[f64; 9] {
+        &self.ratio[r]
+    }
+    /// `(b/r)^n` for `1 <= b <= r`: the weight of class `b` relative to class `r`.
+    #[inline]
+    pub fn ratio(&self, r: usize, b: usize) -> f64 {
+        self.ratio[r][b]
+    }
+}
+
+/// Eq. (4) of the growth paper, generalised: `p = (b/z)^n`, b = occupied neighbours.
+/// `n = 0` gives 1 for every surface site (b >= 1).
+pub fn power_law(b: usize, z: usize, n: f64) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        (b as f64 / z as f64).powf(n)
+    }
+}
+
+/// Eq. (5) of the growth paper: `v = sqrt(x^2 + y^2) / (|x| + |y|)`, with `(x, y)` the
+/// site's position relative to the seed centre; 1 along the coordinate axes, `1/sqrt(2)`
+/// where `|x| = |y|`, and 1 at the centre itself.
+pub fn axes_weight(x: f64, y: f64) -> f64 {
+    let l1 = x.abs() + y.abs();
+    if l1 == 0.0 { 1.0 } else { x.hypot(y) / l1 }
+}
+
+/// A user weight function `v(x, y)` of the physical position relative to the centre.
+pub type WeightFn = Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>;
+
+/// The direction weight `v(x, y)` that multiplies the sticking probability.
+#[derive(Clone, Default)]
+pub enum Weight {
+    /// `v = 1` everywhere (Eq. 4).
+    #[default]
+    Isotropic,
+    /// Eq. (5): fastest growth along the coordinate axes, relative to `centre` (physical).
+    Axes {
+        /// The seed centre, physical coordinates.
+        centre: (f64, f64),
+    },
+    /// Any function of the position relative to `centre`; must return values in [0, 1].
+    Custom {
+        /// The centre positions are measured from, physical coordinates.
+        centre: (f64, f64),
+        /// `v(dx, dy)`.
+        f: WeightFn,
+    },
+}
+
+impl fmt::Debug for Weight {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Weight::Isotropic => f.write_str("Isotropic"),
+            Weight::Axes { centre } => write!(f, "Axes {{ centre: {centre:?} }}"),
+            Weight::Custom { centre, .. } => write!(f, "Custom {{ centre: {centre:?} }}"),
+        }
+    }
+}
+
+impl Weight {
+    /// True when `v = 1` everywhere, so that no per-site weight need be stored.
+    pub fn is_uniform(&self) -> bool {
+        matches!(self, Weight::Isotropic)
+    }
+
+    /// The name used on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Weight::Isotropic => "none",
+            Weight::Axes { .. } => "axes",
+            Weight::Custom { .. } => "custom",
+        }
+    }
+
+    /// `v` at a cell, checked to lie in [0, 1].
+    #[inline]
+    pub fn at(&self, lattice: &Lattice, cell: usize) -> Result<f64, RuleError> {
+        let (centre, f): ((f64, f64), Option<&WeightFn>) = match self {
+            Weight::Isotropic => return Ok(1.0),
+            Weight::Axes { centre } => (*centre, None),
+            Weight::Custom { centre, f } => (*centre, Some(f)),
+        };
+        let (dx, dy) = lattice.displacement(centre, lattice.position(cell));
+        let v = match f {
+            None => axes_weight(dx, dy),
+            Some(f) => f(dx, dy),
+        };
+        if (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(RuleError::WeightValue {
+                value: v,
+                x: dx,
+                y: dy,
+            })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eq4_power_law_ratios_match_the_paper() {
+        // n = 1: a surrounded site beats a site with one neighbour 6:1; n = 2: 36:1.
+        let s1 = Sticking::new(1.0, 6).unwrap();
+        assert!((s1.p(6) / s1.p(1) - 6.0).abs() < 1e-12);
+        let s2 = Sticking::new(2.0, 6).unwrap();
+        assert!((s2.p(6) / s2.p(1) - 36.0).abs() < 1e-12);
+        assert_eq!(s2.p(6), 1.0);
+        assert!((s2.p(3) - 0.25).abs() < 1e-15);
+        // n = 0: every surface site has the same probability 1.
+        let s0 = Sticking::new(0.0, 6).unwrap();
+        for b in 1..=6 {
+            assert_eq!(s0.p(b), 1.0);
+        }
+        assert_eq!(s0.p(0), 0.0);
+    }
+
+    #[test]
+    fn eq4_log_and_ratio_tables_survive_underflow() {
+        let s = Sticking::new(1e4, 6).unwrap();
+        assert_eq!(s.p(1), 0.0); // (1/6)^1e4 underflows
+        let expect = 1e4 * (1.0f64 / 6.0).ln();
+        assert!((s.ln_p(1) - expect).abs() < 1e-9 * expect.abs());
+        assert_eq!(s.ratio(6, 6), 1.0);
+        assert_eq!(s.ratio(1, 1), 1.0);
+        assert!(s.ratio(6, 5) >= 0.0 && s.ratio(6, 5) < 1e-300);
+        let s = Sticking::new(50.0, 6).unwrap();
+        assert!((s.ratio(3, 2) - (2.0f64 / 3.0).powf(50.0)).abs() < 1e-20);
+    }
+
+    #[test]
+    fn eq5_axes_weight() {
+        assert_eq!(axes_weight(3.0, 0.0), 1.0);
+        assert_eq!(axes_weight(0.0, -2.0), 1.0);
+        assert!((axes_weight(2.0, 2.0) - 1.0 / 2f64.sqrt()).abs() < 1e-15);
+        assert!((axes_weight(-1.0, 1.0) - 1.0 / 2f64.sqrt()).abs() < 1e-15);
+        assert_eq!(axes_weight(0.0, 0.0), 1.0);
+        // Bounded by [1/sqrt 2, 1] everywhere.
+        for i in -20..=20 {
+            for j in -20..=20 {
+                let v = axes_weight(i as f64 * 0.37, j as f64 * 0.91);
+                assert!((1.0 / 2f64.sqrt() - 1e-12..=1.0 + 1e-12).contains(&v));
+            }
+        }
+    }
+
+    #[test]
+    fn invalid_parameters_name_the_parameter() {
+        for n in [-1.0, f64::NAN, f64::INFINITY] {
+            let e = Sticking::new(n, 6).unwrap_err();
+            assert!(e.to_string().starts_with("n = "), "{e}");
+        }
+        assert!(Sticking::new(2.0, 0).is_err());
+        assert!(Sticking::new(2.0, 9).is_err());
+    }
+
+    #[test]
+    fn custom_weight_out_of_range_is_an_error() {
+        use crate::lattice::{Boundary, Lattice, Neighbourhood};
+        let l = Lattice::new(Neighbourhood::Square4, 5, 5, Boundary::WALLS).unwrap();
+        let w = Weight::Custom {
+            centre: (2.0, 2.0),
+            f: Arc::new(|x, _| x),
+        };
+        assert!(w.at(&l, l.index(3, 2)).is_ok());
+        let e = w.at(&l, l.index(0, 2)).unwrap_err();
+        assert!(e.to_string().contains("v = -2"), "{e}");
+    }
+}

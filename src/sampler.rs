@@ -1,0 +1,435 @@
+//! Samplers that advance a [`Growth`] run: the paper's rejection algorithm, an exact
+//! rejection-free equivalent, and the synchronous deterministic cellular automaton.
+//!
+//! - [`SamplerKind::Rejection`]: the paper's algorithm verbatim. One timestep picks a
+//!   uniformly random surface site and accepts it if `R < p`.
+//! - [`SamplerKind::Exact`]: the same stochastic process on the same clock, drawn directly
+//!   (READING.md, "The clock"): the number of rejected picks before the next acceptance is
+//!   geometric with success probability `P = sum(p) / S` over the `S` surface sites, and the
+//!   accepted site is chosen with probability proportional to its `p`. Sites are grouped by
+//!   `b`; class weights are computed relative to the highest occupied class, so that they
+//!   never underflow however large `n` is. Cost per accepted event: `O(z)`, plus `O(z log S)`
+//!   with a non-uniform weight; independent of `n`.
+//! - [`SamplerKind::Ca`]: synchronous deterministic growth (Figs. 3 and 4): every surface
+//!   site with at least `b_min` occupied neighbours becomes occupied at once.
+//!
+//! Random numbers come from [`Stream`] (Xoshiro256++), seeded from the run's `--seed`.
+
+use std::fmt;
+use std::str::FromStr;
+
+use rand::{RngExt, SeedableRng};
+use rand_distr::Exp1;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::{Deserialize, Serialize};
+
+use crate::growth::Growth;
+
+/// The random stream of a run: Xoshiro256++ seeded through SplitMix64 from a `u64` seed.
+pub type Stream = Xoshiro256PlusPlus;
+
+/// The random stream for `seed` (the same seed gives the same sequence on every platform).
+pub fn stream(seed: u64) -> Stream {
+    Xoshiro256PlusPlus::seed_from_u64(seed)
+}
+
+/// Which sampler advances the run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SamplerKind {
+    /// The paper's rejection algorithm: one pick per timestep.
+    Rejection,
+    /// Rejection-free, same process and clock.
+    Exact,
+    /// Synchronous deterministic cellular automaton.
+    Ca,
+}
+
+impl SamplerKind {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplerKind::Rejection => "rejection",
+            SamplerKind::Exact => "exact",
+            SamplerKind::Ca => "ca",
+        }
+    }
+}
+
+impl fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for SamplerKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "rejection" => Ok(SamplerKind::Rejection),
+            "exact" => Ok(SamplerKind::Exact),
+            "ca" => Ok(SamplerKind::Ca),
+            _ => Err(format!(
+                "unknown sampler '{s}': expected rejection, exact or ca"
+            )),
+        }
+    }
+}
+
+/// What one call of a sampler's step ended with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// A site was accepted (occupied) at the current time.
+    Accepted(usize),
+    /// The step limit was reached with no further acceptance.
+    Limit,
+    /// There is no surface site left: the lattice is full (or the shape enclosed).
+    Exhausted,
+    /// Every surface site has `p = 0` (e.g. `v = 0`): nothing can ever be accepted. The clock
+    /// was moved to the limit.
+    Stalled,
+    /// The next acceptance lies beyond the largest `f64` timestep (e.g. `n = 1e4` with only
+    /// poorly connected sites): the clock is `+inf` and the run cannot go on.
+    ClockOverflow,
+}
+
+/// Number of rejected picks before the next acceptance, when each pick is accepted with
+/// probability `P = exp(ln_p)`, given `e`, a draw from the unit exponential law.
+///
+/// `K = floor(e / -ln(1 - P))` is geometric on `{0, 1, ...}`: `Pr(K >= k) = (1 - P)^k`.
+/// `P` is given by its logarithm so that it may be far below the smallest `f64` (`n = 1e4`).
+/// The count is returned as an `f64` (exact below `2^53`); it is `+inf` when it exceeds the
+/// largest `f64`, which the clock then reports as an overflow.
+pub fn rejected_picks(ln_p: f64, e: f64) -> f64 {
+    if ln_p >= 0.0 {
+        return 0.0;
+    }
+    // rate = -ln(1 - P), computed without cancellation in every regime.
+    let ln_rate = if ln_p < -20.0 {
+        // rate = P (1 + P/2 + ...), P < 2e-9.
+        ln_p + (0.5 * ln_p.exp()).ln_1p()
+    } else {
+        let one_minus_p = -ln_p.exp_m1();
+        (-one_minus_p.ln()).ln()
+    };
+    if ln_rate > -700.0 {
+        (e / ln_rate.exp()).floor()
+    } else {
+        (e.ln() - ln_rate).exp().floor()
+    }
+}
+
+/// As [`rejected_picks`], for an acceptance probability `p` given directly (`p` well above
+/// the smallest normal `f64`).
+#[inline]
+pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
+    if p >= 1.0 {
+        return 0.0;
+    }
+    (e / -(-p).ln_1p()).floor()
+}
+
+impl Growth {
+    /// The paper's algorithm: picks uniformly random surface sites, one per timestep, and
+    /// accepts a pick if `R < p`. Returns at the first acceptance or when the clock reaches
+    /// `limit`.
+    pub fn step_rejection(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        let uniform = self.weight.is_uniform();
+        loop {
+            if self.time >= limit {
+                return Outcome::Limit;
+            }
+            let s = self.surface.len();
+            if s == 0 {
+                return Outcome::Exhausted;
+            }
+            self.time += 1.0;
+            let slot = rng.random_range(0..s as u32) as usize;
+            let cell = self.surface.site(slot) as usize;
+            let b = self.state[cell] as usize;
+            let mut p = self.rule.p(b);
+            if !uniform {
+                p *= self.weight.at(&self.lattice, cell).unwrap_or(0.0);
+            }
+            let r: f64 = rng.random();
+            if r < p {
+                self.occupy_unchecked(cell);
+                self.accepted += 1;
+                return Outcome::Accepted(cell);
+            }
+        }
+    }
+
+    /// Runs the rejection sampler until the clock reaches `limit` (or the surface empties).
+    /// Faster than calling [`Growth::step_rejection`] per event when no per-event work is
+    /// needed.
+    pub fn run_rejection(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        loop {
+            match self.step_rejection(rng, limit) {
+                Outcome::Accepted(_) => continue,
+                o => return o,
+            }
+        }
+    }
+
+    /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
+    /// site directly. Returns at the acceptance, or moves the clock to `limit` if the next
+    /// acceptance would come later.
+    pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        let s = self.surface.len();
+        if s == 0 {
+            return Outcome::Exhausted;
+        }
+        if self.time >= limit {
+            return Outcome::Limit;
+        }
+        let z = self.lattice.z();
+        // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
+        // class (highest b with m_b > 0).
+        let mut mass = [0.0f64; 9];
+        let mut top = 0;
+        match &self.tree {
+            None => {
+                for (b, m) in mass.iter_mut().enumerate().take(z + 1).skip(1) {
+                    let len = self.surface.class_len(b);
+                    *m = len as f64;
+                    if len > 0 {
+                        top = b;
+                    }
+                }
+            }
+            Some(t) => {
+                for (b, m) in mass.iter_mut().enumerate().take(z + 1).skip(1) {
+                    let r = self.surface.class_range(b);
+                    *m = t.range_sum(r.start, r.end);
+                    if *m > 0.0 {
+                        top = b;
+                    }
+                }
+            }
+        }
+        if top == 0 {
+            self.time = limit;
+            return Outcome::Stalled;
+        }
+        // Weights relative to the top class: w_b = m_b (b/top)^n, w_top = m_top >= its
+        // smallest v > 0, so the sum never underflows to 0.
+        let mut w = [0.0f64; 9];
+        let mut total = 0.0;
+        let ratio = self.rule.ratio_row(top);
+        for b in 1..=top {
+            w[b] = mass[b] * ratio[b];
+            total += w[b];
+        }
+        // The time of the next acceptance: drawn now, or kept from a call that stopped at its
+        // limit first (so that where a run pauses never changes what it does).
+        let at = match self.pending.take() {
+            Some(at) => at,
+            None => {
+                // P = total (top/z)^n / S, in the linear domain unless (top/z)^n underflows.
+                let e: f64 = rng.sample(Exp1);
+                let p_top = self.rule.p(top);
+                let wait = if p_top > 1e-280 {
+                    rejected_picks_linear(total * p_top / s as f64, e)
+                } else {
+                    rejected_picks(total.ln() + self.rule.ln_p(top) - (s as f64).ln(), e)
+                };
+                self.time + wait + 1.0
+            }
+        };
+        if at > limit {
+            if at.is_infinite() {
+                self.time = at;
+                return Outcome::ClockOverflow;
+            }
+            // The next acceptance comes after the limit: pause here.
+            self.pending = Some(at);
+            self.time = limit;
+            return Outcome::Limit;
+        }
+        self.time = at;
+        // The class, proportional to w_b.
+        let mut u = rng.random::<f64>() * total;
+        let mut class = top;
+        for b in (1..=top).rev() {
+            if w[b] > 0.0 {
+                class = b;
+                if u < w[b] {
+                    break;
+                }
+                u -= w[b];
+            }
+        }
+        let r = self.surface.class_range(class);
+        let slot = match &self.tree {
+            None => r.start + rng.random_range(0..(r.end - r.start) as u32) as usize,
+            Some(t) => {
+                let u: f64 = rng.random();
+                // The class has positive mass, so a slot with v > 0 exists.
+                t.select_in(r.start, r.end, u).unwrap_or(r.start)
+            }
+        };
+        let cell = self.surface.site(slot) as usize;
+        self.occupy_unchecked(cell);
+        self.accepted += 1;
+        Outcome::Accepted(cell)
+    }
+
+    /// Runs the exact sampler until the clock reaches `limit` (or the surface empties).
+    pub fn run_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        loop {
+            match self.step_exact(rng, limit) {
+                Outcome::Accepted(_) => continue,
+                o => return o,
+            }
+        }
+    }
+
+    /// One synchronous CA timestep: every surface site with at least `b_min` occupied
+    /// neighbours becomes occupied at once. Returns the number of cells added.
+    pub fn step_ca(&mut self, b_min: usize) -> usize {
+        let b_min = b_min.max(1);
+        if b_min > self.lattice.z() {
+            self.time += 1.0;
+            return 0;
+        }
+        // Sites of class >= b_min are the leading slots of the surface array.
+        let hi = self.surface.class_range(b_min).end;
+        let chosen: Vec<u32> = self.surface.sites()[..hi].to_vec();
+        for &c in &chosen {
+            self.occupy_unchecked(c as usize);
+        }
+        self.time += 1.0;
+        self.accepted += chosen.len() as u64;
+        chosen.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lattice::{Boundary, Lattice, Neighbourhood};
+    use crate::rule::{Sticking, Weight};
+
+    fn flame(n: f64, size: usize, weight: Weight, per_site: bool) -> Growth {
+        let l = Lattice::new(Neighbourhood::Hex, size, size, Boundary::TORUS).unwrap();
+        let mut g = Growth::new(l, Sticking::new(n, 6).unwrap(), weight, per_site).unwrap();
+        let c = size as f64 / 2.0;
+        g.occupy_where(|x, y| (x - c).abs() < 2.5 && (y - c * 0.866).abs() < 2.5);
+        g
+    }
+
+    #[test]
+    fn geometric_wait_has_the_right_law() {
+        // Pr(K >= k) = (1-P)^k: check the mean (1-P)/P with e drawn from Exp(1).
+        let mut rng = stream(7);
+        for p in [0.9, 0.3, 0.01] {
+            let m = 200_000;
+            let mut sum = 0.0;
+            let mut sum2 = 0.0;
+            for _ in 0..m {
+                let e: f64 = rng.sample(Exp1);
+                let k = rejected_picks(f64::ln(p), e);
+                sum += k;
+                sum2 += k * k;
+            }
+            let mean = sum / m as f64;
+            let var = sum2 / m as f64 - mean * mean;
+            let expect = (1.0 - p) / p;
+            let se = (var / m as f64).sqrt();
+            assert!(
+                (mean - expect).abs() < 5.0 * se,
+                "p={p}: {mean} vs {expect}"
+            );
+        }
+        assert_eq!(rejected_picks(0.0, 3.0), 0.0);
+        // P = e^-1e5: the wait ~ e^1e5 overflows f64 and is reported as +inf.
+        assert_eq!(rejected_picks(-1e5, 1.0), f64::INFINITY);
+        // P = 1e-15 and 1e-300: wait = e / P, in both branches.
+        let k = rejected_picks((1e-15f64).ln(), 2.0);
+        assert!((k / 2e15 - 1.0).abs() < 1e-6);
+        let k = rejected_picks((1e-300f64).ln(), 2.0);
+        assert!((k / 2e300 - 1.0).abs() < 1e-9);
+        let k = rejected_picks(-705.0, 1.0);
+        assert!((k.ln() - 705.0).abs() < 1e-9);
+        assert_eq!(rejected_picks(-800.0, 1.0), f64::INFINITY);
+        // The linear form agrees with the log form.
+        for p in [0.999, 0.5, 1e-3, 1e-12] {
+            for e in [0.01, 1.0, 7.0] {
+                let (a, b) = (rejected_picks_linear(p, e), rejected_picks(f64::ln(p), e));
+                assert!((a - b).abs() <= 1.0 + 1e-9 * a, "{p} {e}: {a} {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn exact_keeps_invariants_with_and_without_weights() {
+        for (w, per) in [
+            (Weight::Isotropic, false),
+            (
+                Weight::Axes {
+                    centre: (10.0, 8.66),
+                },
+                true,
+            ),
+        ] {
+            let mut g = flame(2.0, 20, w, per);
+            let mut rng = stream(3);
+            for _ in 0..150 {
+                assert!(matches!(
+                    g.step_exact(&mut rng, f64::INFINITY),
+                    Outcome::Accepted(_)
+                ));
+            }
+            g.check_invariants().unwrap();
+        }
+    }
+
+    #[test]
+    fn value_stability_of_the_stream_and_samplers() {
+        // Pins the random stream and both samplers' first events: a change here changes
+        // every published run, and must be deliberate.
+        let mut rng = stream(1);
+        let first: [u64; 3] = [rng.random(), rng.random(), rng.random()];
+        assert_eq!(
+            first,
+            [
+                14971601782005023387,
+                13781649495232077965,
+                1847458086238483744
+            ]
+        );
+        let mut g = flame(2.0, 16, Weight::Isotropic, false);
+        let mut rng = stream(42);
+        let ev: Vec<(f64, usize)> = (0..5)
+            .map(|_| match g.step_exact(&mut rng, f64::INFINITY) {
+                Outcome::Accepted(c) => (g.time(), c),
+                o => panic!("{o:?}"),
+            })
+            .collect();
+        assert_eq!(
+            ev,
+            vec![
+                (11.0, 154),
+                (19.0, 87),
+                (22.0, 182),
+                (29.0, 183),
+                (38.0, 149)
+            ],
+            "exact events"
+        );
+        let mut g = flame(2.0, 16, Weight::Isotropic, false);
+        let mut rng = stream(42);
+        let ev: Vec<(f64, usize)> = (0..5)
+            .map(|_| match g.step_rejection(&mut rng, f64::INFINITY) {
+                Outcome::Accepted(c) => (g.time(), c),
+                o => panic!("{o:?}"),
+            })
+            .collect();
+        assert_eq!(
+            ev,
+            vec![(9.0, 86), (35.0, 88), (39.0, 87), (52.0, 89), (74.0, 71)],
+            "rejection events"
+        );
+    }
+}

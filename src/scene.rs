@@ -1,0 +1,742 @@
+//! Growth scenes: the paper's flame front (Fig. 5), land deposition (Fig. 6), anisotropic
+//! crystal (Fig. 7), deterministic CA (Figs. 3, 4), and a generic `grow` scene.
+//!
+//! A [`SceneConfig`] names everything a run needs (lattice, size, boundary, rule, initial
+//! [`Shape`], sampler, clock, snapshots, seed); [`SceneConfig::defaults`] gives each scene the
+//! values that reproduce the paper's snapshots, and [`SceneConfig::from_toml`] reads a
+//! scenario file over those defaults (unknown keys are rejected). [`run`] builds only what the
+//! configuration names and returns a [`RunResult`] with snapshots, an observable time series
+//! and a summary.
+
+use std::f64::consts::PI;
+use std::fmt;
+use std::str::FromStr;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::growth::{Growth, GrowthError};
+use crate::lattice::{Boundary, Lattice, LatticeError, Neighbourhood};
+use crate::observe::{self, ColumnProfile};
+use crate::rule::{RuleError, Sticking, Weight};
+use crate::sampler::{self, Outcome, SamplerKind};
+
+/// The version of cellsurf, recorded in every output.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SceneKind {
+    /// Flame front from a square burnt region (Fig. 5).
+    Flame,
+    /// Deposition on a cosine trough, vertical section (Fig. 6).
+    Deposit,
+    /// Anisotropic crystal from a disc seed, Eq. (5) (Fig. 7).
+    Crystal,
+    /// Deterministic synchronous CA from a seed cell (Figs. 3 and 4).
+    Ca,
+    /// Any lattice, rule, shape and sampler.
+    Grow,
+}
+
+impl SceneKind {
+    /// The scene's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneKind::Flame => "flame",
+            SceneKind::Deposit => "deposit",
+            SceneKind::Crystal => "crystal",
+            SceneKind::Ca => "ca",
+            SceneKind::Grow => "grow",
+        }
+    }
+}
+
+impl fmt::Display for SceneKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The initial occupied region, placed at the centre of the lattice (physical coordinates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// The single cell nearest the centre (`start` unused).
+    Point,
+    /// A square of side `start` (cell widths), axis-aligned.
+    Square,
+    /// A disc of diameter `start` (cell widths).
+    Disc,
+    /// Solid below `y = base + start cos(2 pi x / W)`: a trough in the middle of the section,
+    /// `start` the amplitude, `base = start + 0.1 H` (all in cell widths).
+    Cosine,
+    /// Solid below `y = start`: a flat layer `start` cell widths thick.
+    Flat,
+}
+
+impl Shape {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Point => "point",
+            Shape::Square => "square",
+            Shape::Disc => "disc",
+            Shape::Cosine => "cosine",
+            Shape::Flat => "flat",
+        }
+    }
+}
+
+impl FromStr for Shape {
+    type Err = SceneError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "point" => Ok(Shape::Point),
+            "square" => Ok(Shape::Square),
+            "disc" | "circle" => Ok(Shape::Disc),
+            "cosine" => Ok(Shape::Cosine),
+            "flat" => Ok(Shape::Flat),
+            _ => Err(SceneError::Unknown {
+                parameter: "shape",
+                value: s.to_string(),
+                expected: "point, square, disc, cosine or flat",
+            }),
+        }
+    }
+}
+
+/// The direction weight of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WeightKind {
+    /// `v = 1` (Eq. 4).
+    None,
+    /// Eq. (5), relative to the shape's centre.
+    Axes,
+}
+
+impl FromStr for WeightKind {
+    type Err = SceneError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "none" | "isotropic" => Ok(WeightKind::None),
+            "axes" => Ok(WeightKind::Axes),
+            _ => Err(SceneError::Unknown {
+                parameter: "weight",
+                value: s.to_string(),
+                expected: "none or axes",
+            }),
+        }
+    }
+}
+
+/// Errors in a scene's configuration or run.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SceneError {
+    /// A lattice parameter is invalid.
+    #[error(transparent)]
+    Lattice(#[from] LatticeError),
+    /// A rule parameter is invalid.
+    #[error(transparent)]
+    Rule(#[from] RuleError),
+    /// Growth could not be set up.
+    #[error(transparent)]
+    Growth(#[from] GrowthError),
+    /// A numeric parameter is out of range.
+    #[error("{parameter} = {value} is out of range: {expected}")]
+    Range {
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid range.
+        expected: String,
+    },
+    /// A name is not known.
+    #[error("unknown {parameter} '{value}': expected {expected}")]
+    Unknown {
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid names.
+        expected: &'static str,
+    },
+    /// A scenario file could not be read.
+    #[error("scenario file: {0}")]
+    Toml(String),
+}
+
+fn range(
+    parameter: &'static str,
+    value: impl fmt::Display,
+    expected: impl Into<String>,
+) -> SceneError {
+    SceneError::Range {
+        parameter,
+        value: value.to_string(),
+        expected: expected.into(),
+    }
+}
+
+/// Everything a growth run needs. Units: lengths in cell widths; times in Monte Carlo
+/// timesteps (picks), or CA updates for the CA sampler.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    /// The scene.
+    pub scene: SceneKind,
+    /// Neighbourhood: hex (Eq. 3), square4 (Eq. 2) or square8 (Moore).
+    pub lattice: Neighbourhood,
+    /// Columns.
+    pub width: usize,
+    /// Rows (even on a hexagonal lattice periodic in y).
+    pub height: usize,
+    /// Boundary: torus, walls, channel (periodic x, walls y) or tube.
+    pub boundary: Boundary,
+    /// Power-law exponent n >= 0 of Eq. (4).
+    pub n: f64,
+    /// Direction weight v: none (v = 1) or axes (Eq. 5).
+    pub weight: WeightKind,
+    /// Initial shape.
+    pub shape: Shape,
+    /// Size of the initial shape (cell widths): square side, disc diameter, cosine amplitude
+    /// or flat thickness.
+    pub start: f64,
+    /// Timesteps to run.
+    pub steps: u64,
+    /// Timesteps at which to keep a snapshot of the lattice, increasing, at most `steps`.
+    pub snapshots: Vec<u64>,
+    /// Sampler: rejection (the paper's), exact (rejection-free) or ca (deterministic).
+    pub sampler: SamplerKind,
+    /// CA only: the minimum number of occupied neighbours for growth, cycled over the
+    /// timesteps (`[1]`: Fig. 3; `[1, 2]`: Fig. 4).
+    pub ca_rule: Vec<usize>,
+    /// Seed of the random stream.
+    pub seed: u64,
+    /// Number of evenly spaced times at which observables are recorded.
+    pub series: usize,
+}
+
+/// The largest step count: the clock is exact in `f64` below `2^53`.
+pub const MAX_STEPS: u64 = 1 << 53;
+
+impl SceneConfig {
+    /// The defaults of a scene, chosen so that the figures show what the paper describes
+    /// (the paper gives no lattice sizes):
+    /// - flame: hexagonal 200 x 230 torus (physically square), square start of side 40,
+    ///   n = 2, snapshots 1000, 8000, 20000, 50000;
+    /// - deposit: hexagonal 200 x 160 channel (periodic in x, floor and ceiling walls), cosine
+    ///   of amplitude 25, n = 2, snapshots 10, 5000, 28000, 50000;
+    /// - crystal: hexagonal 240 x 276 torus, disc of diameter 30, n = 2, Eq. (5),
+    ///   snapshots 1000, 30000, 50000, 80000;
+    /// - ca: square4 41 x 41 with walls, a seed cell, updates 1-4, rule `[1]` (Fig. 3);
+    /// - grow: hexagonal 128 x 148 torus, a seed cell, n = 2, 20000 steps.
+    pub fn defaults(scene: SceneKind) -> Self {
+        let base = SceneConfig {
+            scene,
+            lattice: Neighbourhood::Hex,
+            width: 200,
+            height: 230,
+            boundary: Boundary::TORUS,
+            n: 2.0,
+            weight: WeightKind::None,
+            shape: Shape::Square,
+            start: 40.0,
+            steps: 50_000,
+            snapshots: vec![1000, 8000, 20_000, 50_000],
+            sampler: SamplerKind::Exact,
+            ca_rule: vec![1],
+            seed: 1,
+            series: 50,
+        };
+        match scene {
+            SceneKind::Flame => base,
+            SceneKind::Deposit => SceneConfig {
+                width: 200,
+                height: 160,
+                boundary: Boundary::CHANNEL,
+                shape: Shape::Cosine,
+                start: 25.0,
+                snapshots: vec![10, 5000, 28_000, 50_000],
+                ..base
+            },
+            SceneKind::Crystal => SceneConfig {
+                width: 240,
+                height: 276,
+                weight: WeightKind::Axes,
+                shape: Shape::Disc,
+                start: 30.0,
+                steps: 80_000,
+                snapshots: vec![1000, 30_000, 50_000, 80_000],
+                ..base
+            },
+            SceneKind::Ca => SceneConfig {
+                lattice: Neighbourhood::Square4,
+                width: 41,
+                height: 41,
+                boundary: Boundary::WALLS,
+                n: 0.0,
+                shape: Shape::Point,
+                start: 1.0,
+                steps: 4,
+                snapshots: vec![1, 2, 3, 4],
+                sampler: SamplerKind::Ca,
+                series: 4,
+                ..base
+            },
+            SceneKind::Grow => SceneConfig {
+                width: 128,
+                height: 148,
+                shape: Shape::Point,
+                start: 1.0,
+                steps: 20_000,
+                snapshots: vec![5000, 10_000, 20_000],
+                ..base
+            },
+        }
+    }
+
+    /// Reads a scenario file: a TOML table with `scene = "..."` and any of the other keys,
+    /// each overriding the scene's default. Unknown keys are an error.
+    pub fn from_toml(text: &str) -> Result<Self, SceneError> {
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SceneError::Toml(e.message().to_string()))?;
+        let scene = match table.get("scene") {
+            Some(toml::Value::String(s)) => {
+                let v = toml::Value::String(s.clone());
+                SceneKind::deserialize(v).map_err(|_| SceneError::Unknown {
+                    parameter: "scene",
+                    value: s.clone(),
+                    expected: "flame, deposit, crystal, ca or grow",
+                })?
+            }
+            _ => {
+                return Err(SceneError::Toml(
+                    "missing key 'scene' (flame, deposit, crystal, ca or grow)".into(),
+                ));
+            }
+        };
+        let defaults = SceneConfig::defaults(scene);
+        let mut merged =
+            toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+        for (k, v) in table {
+            merged.insert(k, v);
+        }
+        let cfg: SceneConfig = toml::Value::Table(merged)
+            .try_into()
+            .map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// The configuration as a TOML scenario file.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+
+    /// Checks every parameter, naming the first one out of range.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let lattice = Lattice::new(self.lattice, self.width, self.height, self.boundary)?;
+        Sticking::new(self.n, self.lattice.z())?;
+        if self.steps == 0 || self.steps > MAX_STEPS {
+            return Err(range("steps", self.steps, format!("1 to {MAX_STEPS}")));
+        }
+        for w in self.snapshots.windows(2) {
+            if w[1] <= w[0] {
+                return Err(range(
+                    "snapshots",
+                    format!("{:?}", self.snapshots),
+                    "timesteps must be strictly increasing",
+                ));
+            }
+        }
+        if let Some(&last) = self.snapshots.last() {
+            if last > self.steps {
+                return Err(range(
+                    "snapshots",
+                    last,
+                    format!("every snapshot must be at most steps = {}", self.steps),
+                ));
+            }
+        }
+        if self.snapshots.len() > 64 {
+            return Err(range(
+                "snapshots",
+                self.snapshots.len(),
+                "at most 64 snapshots",
+            ));
+        }
+        if !(1..=100_000).contains(&self.series) {
+            return Err(range("series", self.series, "1 to 100000 points"));
+        }
+        let z = self.lattice.z();
+        if self.ca_rule.is_empty() || self.ca_rule.iter().any(|&b| b == 0 || b > z) {
+            return Err(range(
+                "ca_rule",
+                format!("{:?}", self.ca_rule),
+                format!("a non-empty list of neighbour counts from 1 to z = {z}"),
+            ));
+        }
+        let (pw, ph) = lattice.physical_size();
+        let s = self.start;
+        let ok = match self.shape {
+            Shape::Point => true,
+            Shape::Square | Shape::Disc => s.is_finite() && s > 0.0 && s <= pw.min(ph),
+            Shape::Cosine => s.is_finite() && s >= 0.0 && 2.0 * s + 0.1 * ph < ph,
+            Shape::Flat => s.is_finite() && s > 0.0 && s < ph,
+        };
+        if !ok {
+            let expected = match self.shape {
+                Shape::Square | Shape::Disc => format!(
+                    "the {} must be > 0 and fit the lattice (at most {:.1} cell widths)",
+                    if self.shape == Shape::Square {
+                        "square's side"
+                    } else {
+                        "disc's diameter"
+                    },
+                    pw.min(ph)
+                ),
+                Shape::Cosine => format!(
+                    "the amplitude must be >= 0 and the trough fit the lattice (below {:.1})",
+                    0.45 * ph
+                ),
+                _ => format!("the layer must be > 0 and thinner than the lattice ({ph:.1})"),
+            };
+            return Err(range("start", s, expected));
+        }
+        Ok(())
+    }
+
+    /// The centre of the initial shape and of the Eq. (5) weight (physical coordinates).
+    pub fn centre(&self, lattice: &Lattice) -> (f64, f64) {
+        let (pw, ph) = lattice.physical_size();
+        match self.shape {
+            Shape::Point => lattice.position(lattice.nearest_cell(pw / 2.0, ph / 2.0)),
+            _ => (pw / 2.0, ph / 2.0),
+        }
+    }
+
+    /// Builds the run's initial state: lattice, rule, weight and shape. The per-site weight
+    /// tree is built only for the exact sampler with a non-uniform weight.
+    pub fn build(&self) -> Result<Growth, SceneError> {
+        self.validate()?;
+        let lattice = Lattice::new(self.lattice, self.width, self.height, self.boundary)?;
+        let rule = Sticking::new(self.n, self.lattice.z())?;
+        let centre = self.centre(&lattice);
+        let weight = match self.weight {
+            WeightKind::None => Weight::Isotropic,
+            WeightKind::Axes => Weight::Axes { centre },
+        };
+        let (pw, ph) = lattice.physical_size();
+        let per_site = self.sampler == SamplerKind::Exact;
+        let mut g = Growth::new(lattice, rule, weight, per_site)?;
+        let s = self.start;
+        let (cx, cy) = centre;
+        match self.shape {
+            Shape::Point => {
+                let c = g.lattice().nearest_cell(cx, cy);
+                g.occupy(c)?;
+            }
+            Shape::Square => g.occupy_where(|x, y| {
+                x >= cx - s / 2.0 && x < cx + s / 2.0 && y >= cy - s / 2.0 && y < cy + s / 2.0
+            }),
+            Shape::Disc => g.occupy_where(|x, y| (x - cx).hypot(y - cy) < s / 2.0),
+            Shape::Cosine => {
+                let base = s + 0.1 * ph;
+                g.occupy_where(|x, y| y <= base + s * (2.0 * PI * x / pw).cos())
+            }
+            Shape::Flat => g.occupy_where(|_, y| y < s),
+        }
+        if g.occupied() == 0 {
+            return Err(range(
+                "start",
+                s,
+                "the initial shape holds no cell: make it larger",
+            ));
+        }
+        Ok(g)
+    }
+}
+
+/// Why a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The clock reached `steps`.
+    Completed,
+    /// No surface site is left (the lattice filled up); the state is final.
+    LatticeFull,
+    /// Every surface site has probability 0; the clock ran to `steps` with no growth.
+    Stalled,
+    /// The next acceptance lies beyond the largest representable timestep.
+    ClockOverflow,
+}
+
+/// Values of the scene's observables at one time (`None` where not defined).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Observables {
+    /// Coefficient of variation of the front radius over angle (flame, grow).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub front_radius_cv: Option<f64>,
+    /// Extent along the axes over extent along the diagonals (crystal, ca, grow).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis_diagonal_ratio: Option<f64>,
+    /// Amplitude of the first Fourier mode of the surface height (deposit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mode1_amplitude: Option<f64>,
+    /// Mean surface elevation (deposit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mean_elevation: Option<f64>,
+}
+
+/// Observables at one time of the run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Observation {
+    /// Timestep.
+    pub time: f64,
+    /// Accepted events so far.
+    pub accepted: u64,
+    /// Occupied cells.
+    pub occupied: usize,
+    /// Surface sites.
+    pub surface: usize,
+    /// The observables.
+    #[serde(flatten)]
+    pub values: Observables,
+}
+
+/// The lattice at one timestep, in drawing states (0 empty, 1 surface, 2 occupied).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    /// Timestep.
+    pub time: f64,
+    /// Drawing state per cell, `y * width + x`.
+    pub states: Vec<u8>,
+}
+
+/// Everything a run produced.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    /// The configuration that ran.
+    pub config: SceneConfig,
+    /// Snapshots at the configured times.
+    pub snapshots: Vec<Snapshot>,
+    /// Observables at evenly spaced times (the first at time 0).
+    pub series: Vec<Observation>,
+    /// The final observation.
+    pub last: Observation,
+    /// Why the run ended.
+    pub stop: StopReason,
+    /// Seconds spent building the initial state.
+    pub setup_s: f64,
+    /// Seconds spent running (sampling and observing).
+    pub elapsed_s: f64,
+    /// Bytes held by the run's state.
+    pub memory_bytes: usize,
+}
+
+/// Called during a run: progress, and optional extra frames (e.g. an animation).
+pub trait RunHooks {
+    /// The clock reached `time` of `steps`.
+    fn progress(&mut self, _time: f64, _steps: f64) {}
+    /// Times (besides snapshots) at which [`RunHooks::frame`] should be called.
+    fn frame_times(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// The state at one of the frame times.
+    fn frame(&mut self, _time: f64, _g: &Growth) {}
+}
+
+/// Hooks that do nothing.
+pub struct NoHooks;
+impl RunHooks for NoHooks {}
+
+/// Measures the scene's observables on a state.
+pub fn observe(cfg: &SceneConfig, g: &Growth) -> Observation {
+    let centre = cfg.centre(g.lattice());
+    let mut v = Observables::default();
+    let profile = matches!(cfg.shape, Shape::Cosine | Shape::Flat);
+    match cfg.scene {
+        SceneKind::Flame => v.front_radius_cv = observe::front_radius_cv(g, centre, 36),
+        SceneKind::Crystal | SceneKind::Ca => {
+            v.axis_diagonal_ratio = observe::axis_diagonal_ratio(g, centre)
+        }
+        SceneKind::Deposit => {}
+        SceneKind::Grow if !profile => {
+            v.front_radius_cv = observe::front_radius_cv(g, centre, 36);
+            v.axis_diagonal_ratio = observe::axis_diagonal_ratio(g, centre);
+        }
+        SceneKind::Grow => {}
+    }
+    if cfg.scene == SceneKind::Deposit || (cfg.scene == SceneKind::Grow && profile) {
+        let p = ColumnProfile::of(g);
+        v.mode1_amplitude = Some(p.mode1_amplitude());
+        v.mean_elevation = Some(p.mean());
+    }
+    Observation {
+        time: g.time(),
+        accepted: g.accepted(),
+        occupied: g.occupied(),
+        surface: g.surface().len(),
+        values: v,
+    }
+}
+
+/// Number of progress checkpoints in every run (fixed, so that they never change results).
+const PROGRESS_TICKS: u64 = 100;
+
+/// Runs a scene. The result depends only on the configuration (not on hooks, progress or
+/// frames): the exact sampler keeps its next acceptance across pauses.
+pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, SceneError> {
+    let t0 = Instant::now();
+    let mut g = cfg.build()?;
+    let setup_s = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let steps = cfg.steps as f64;
+    let mut rng = sampler::stream(cfg.seed);
+
+    // Checkpoints: snapshots, series points, progress ticks and frames.
+    let series_times: Vec<f64> = (1..=cfg.series as u64)
+        .map(|k| (cfg.steps as u128 * k as u128 / cfg.series as u128) as f64)
+        .collect();
+    let frames = hooks.frame_times();
+    let mut checkpoints: Vec<f64> = cfg.snapshots.iter().map(|&t| t as f64).collect();
+    checkpoints.extend(&series_times);
+    checkpoints.extend(
+        (1..=PROGRESS_TICKS)
+            .map(|k| (cfg.steps as u128 * k as u128 / PROGRESS_TICKS as u128) as f64),
+    );
+    checkpoints.extend(frames.iter().copied().filter(|&t| t >= 0.0 && t <= steps));
+    checkpoints.push(0.0);
+    checkpoints.push(steps);
+    checkpoints.sort_by(f64::total_cmp);
+    checkpoints.dedup();
+
+    let mut snapshots = Vec::new();
+    let mut series = vec![observe(cfg, &g)];
+    let mut stop = StopReason::Completed;
+    let mut next_snap = 0;
+    let mut next_series = 0;
+    let mut next_frame = 0;
+    for &cp in &checkpoints {
+        if stop == StopReason::Completed || stop == StopReason::Stalled {
+            let outcome = advance(cfg, &mut g, &mut rng, cp);
+            match outcome {
+                Outcome::Exhausted => stop = StopReason::LatticeFull,
+                Outcome::Stalled => stop = StopReason::Stalled,
+                Outcome::ClockOverflow => stop = StopReason::ClockOverflow,
+                _ => {}
+            }
+        }
+        while next_snap < cfg.snapshots.len() && cfg.snapshots[next_snap] as f64 <= cp {
+            snapshots.push(Snapshot {
+                time: if stop == StopReason::Completed || stop == StopReason::Stalled {
+                    cp
+                } else {
+                    g.time()
+                },
+                states: g.field_states(),
+            });
+            next_snap += 1;
+        }
+        while next_series < series_times.len() && series_times[next_series] <= cp {
+            series.push(observe(cfg, &g));
+            next_series += 1;
+        }
+        while next_frame < frames.len() && frames[next_frame] <= cp {
+            hooks.frame(frames[next_frame], &g);
+            next_frame += 1;
+        }
+        hooks.progress(g.time().min(steps), steps);
+    }
+    let last = observe(cfg, &g);
+    Ok(RunResult {
+        config: cfg.clone(),
+        snapshots,
+        series,
+        last,
+        stop,
+        setup_s,
+        elapsed_s: t1.elapsed().as_secs_f64(),
+        memory_bytes: g.memory_bytes(),
+    })
+}
+
+/// Advances the run to time `limit` with the configured sampler.
+fn advance(cfg: &SceneConfig, g: &mut Growth, rng: &mut sampler::Stream, limit: f64) -> Outcome {
+    if g.time() >= limit {
+        return Outcome::Limit;
+    }
+    match cfg.sampler {
+        SamplerKind::Rejection => g.run_rejection(rng, limit),
+        SamplerKind::Exact => g.run_exact(rng, limit),
+        SamplerKind::Ca => {
+            while g.time() < limit {
+                if g.surface().is_empty() {
+                    return Outcome::Exhausted;
+                }
+                let k = g.time() as usize % cfg.ca_rule.len();
+                g.step_ca(cfg.ca_rule[k]);
+            }
+            Outcome::Limit
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        for s in [
+            SceneKind::Flame,
+            SceneKind::Deposit,
+            SceneKind::Crystal,
+            SceneKind::Ca,
+            SceneKind::Grow,
+        ] {
+            SceneConfig::defaults(s).validate().unwrap();
+        }
+    }
+
+    #[test]
+    fn toml_round_trip_and_overrides() {
+        let c = SceneConfig::from_toml("scene = \"flame\"\nn = 3.5\nseed = 9\n").unwrap();
+        assert_eq!(c.n, 3.5);
+        assert_eq!(c.seed, 9);
+        assert_eq!(c.width, SceneConfig::defaults(SceneKind::Flame).width);
+        let back = SceneConfig::from_toml(&c.to_toml()).unwrap();
+        assert_eq!(back, c);
+    }
+
+    #[test]
+    fn bad_scenarios_name_the_parameter() {
+        let cases = [
+            ("scene = \"flame\"\nfoo = 1\n", "foo"),
+            ("n = 2\n", "scene"),
+            ("scene = \"volcano\"\n", "volcano"),
+            ("scene = \"flame\"\nn = -1.0\n", "n = -1"),
+            ("scene = \"flame\"\nwidth = 0\n", "width = 0"),
+            ("scene = \"flame\"\nheight = 231\n", "height = 231"),
+            ("scene = \"flame\"\nsnapshots = [5, 3]\n", "snapshots"),
+            (
+                "scene = \"flame\"\nsnapshots = [60000]\n",
+                "snapshots = 60000",
+            ),
+            ("scene = \"flame\"\nsteps = 0\n", "steps = 0"),
+            ("scene = \"flame\"\nstart = 1e6\n", "start"),
+            ("scene = \"flame\"\nlattice = \"tri\"\n", "lattice"),
+            ("scene = \"ca\"\nca_rule = [5]\n", "ca_rule"),
+        ];
+        for (text, needle) in cases {
+            let e = SceneConfig::from_toml(text).unwrap_err().to_string();
+            assert!(e.contains(needle), "{text:?}: {e}");
+        }
+    }
+}
