@@ -1,0 +1,552 @@
+//! A grid of line charts with legends in one PNG.
+
+use std::path::Path;
+
+use std::ops::Range;
+
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{
+    AsRangedCoord, DefaultFormatting, KeyPointHint, Ranged, ValueFormatter,
+};
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::{PlotError, check_picture_size, encode_png, ensure_fonts};
+
+/// One data series of a [`Chart`]: points `(x[i], y[i])` for `i < min(x.len(), y.len())`.
+///
+/// Points with a non-finite coordinate (NaN, infinite), or a non-positive one on a log axis, are
+/// skipped, and the line is broken there rather than joined across the gap.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Series {
+    /// Legend entry; an empty label leaves the series out of the legend.
+    pub label: String,
+    /// Abscissae.
+    pub x: Vec<f64>,
+    /// Ordinates.
+    pub y: Vec<f64>,
+    /// Draw a marker at every point as well as the line.
+    pub points: bool,
+}
+
+/// One chart of [`line_charts`]: a mesh with axis labels, its series and a legend.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Chart {
+    /// Caption above the chart (may be empty).
+    pub title: String,
+    /// Label of the x axis.
+    pub x_label: String,
+    /// Label of the y axis.
+    pub y_label: String,
+    /// The series, coloured in turn from plotters' `Palette99`.
+    pub series: Vec<Series>,
+    /// Logarithmic x axis (non-positive x values are skipped).
+    pub log_x: bool,
+    /// Logarithmic y axis (non-positive y values are skipped).
+    pub log_y: bool,
+}
+
+/// Smallest accepted chart width and height, in pixels.
+const MIN_CHART_PX: u32 = 64;
+
+/// Draws `charts` as a grid of `cols` columns (fewer when there are fewer charts), each
+/// `chart_px = (width, height)` pixels, under the figure `title` (omitted when empty), and
+/// writes the PNG to `path` atomically.
+///
+/// Each chart has a mesh, axis labels, a caption, and a legend of the labelled series placed in
+/// the corner with the fewest data points. Axis ranges cover the finite (and, on log axes,
+/// positive) data with a 5% margin (a decade's fraction on log axes); a chart without usable
+/// data gets a default range `0..1` (`1..10` on log axes). Series with `points` get a filled
+/// circle at every point.
+///
+/// # Errors
+///
+/// [`PlotError::InvalidInput`] for an empty `charts`, `cols == 0`, a `chart_px` side below 64
+/// pixels, or a figure larger than 16384 pixels a side or 64 megapixels;
+/// [`PlotError::Drawing`], [`PlotError::Encoding`] or [`PlotError::Io`] when drawing, encoding
+/// or writing fails.
+pub fn line_charts(
+    path: &Path,
+    title: &str,
+    charts: &[Chart],
+    cols: usize,
+    chart_px: (u32, u32),
+) -> Result<(), PlotError> {
+    if charts.is_empty() {
+        return Err(PlotError::invalid("charts", "is empty"));
+    }
+    if cols == 0 {
+        return Err(PlotError::invalid("cols", "must be positive"));
+    }
+    let (cw, ch) = chart_px;
+    if cw < MIN_CHART_PX || ch < MIN_CHART_PX {
+        return Err(PlotError::invalid(
+            "chart_px",
+            format!("is {cw} x {ch}, each side must be at least {MIN_CHART_PX} pixels"),
+        ));
+    }
+    let cols = cols.min(charts.len());
+    let rows = charts.len().div_ceil(cols);
+    let title_font = (f64::from(ch) / 16.0).clamp(14.0, 34.0);
+    let title_h = if title.is_empty() {
+        0
+    } else {
+        (title_font * 1.9).round() as u32
+    };
+    let width = cols as u64 * u64::from(cw);
+    let height = rows as u64 * u64::from(ch) + u64::from(title_h);
+    check_picture_size("chart_px", width, height)?;
+    let (width, height) = (width as u32, height as u32);
+
+    ensure_fonts();
+    let mut buf = vec![255u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(PlotError::drawing)?;
+        let grid_area = if title_h > 0 {
+            let (top, rest) = root.split_vertically(title_h);
+            let style = ("sans-serif", title_font, FontStyle::Bold)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Center));
+            top.draw(&Text::new(
+                title.to_string(),
+                ((width / 2) as i32, (title_h / 2) as i32),
+                style,
+            ))
+            .map_err(PlotError::drawing)?;
+            rest
+        } else {
+            root.clone()
+        };
+        let areas = grid_area.split_evenly((rows, cols));
+        for (chart, area) in charts.iter().zip(areas.iter()) {
+            draw_chart_any(area, chart)?;
+        }
+        root.present().map_err(PlotError::drawing)?;
+    }
+    let png = encode_png(&buf, width, height)?;
+    crate::io::write_atomic(path, &png)?;
+    Ok(())
+}
+
+/// The usable points of a series, split into runs between skipped points.
+fn segments(s: &Series, log_x: bool, log_y: bool) -> Vec<Vec<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut run = Vec::new();
+    for (&x, &y) in s.x.iter().zip(s.y.iter()) {
+        let ok = x.is_finite() && y.is_finite() && (!log_x || x > 0.0) && (!log_y || y > 0.0);
+        if ok {
+            run.push((x, y));
+        } else if !run.is_empty() {
+            out.push(std::mem::take(&mut run));
+        }
+    }
+    if !run.is_empty() {
+        out.push(run);
+    }
+    out
+}
+
+/// Axis range `lo..hi` covering `values` with a margin; log axes pad in log space.
+fn axis_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return if log { (1.0, 10.0) } else { (0.0, 1.0) };
+    }
+    if log {
+        let (l0, l1) = (lo.log10(), hi.log10());
+        let pad = if l1 > l0 { 0.05 * (l1 - l0) } else { 0.5 };
+        let (a, b) = (10f64.powf(l0 - pad), 10f64.powf(l1 + pad));
+        if a > 0.0 && b.is_finite() && b > a {
+            (a, b)
+        } else {
+            (lo, hi.max(lo * 10.0))
+        }
+    } else {
+        let span = hi - lo;
+        let pad = if span > 0.0 && span.is_finite() {
+            0.05 * span
+        } else {
+            (0.1 * lo.abs()).max(1.0)
+        };
+        let (a, b) = (lo - pad, hi + pad);
+        let (a, b) = if a.is_finite() && b.is_finite() && b > a {
+            (a, b)
+        } else {
+            (lo, hi)
+        };
+        // plotters' tick search needs a finite span: cap ranges near the limits of f64.
+        if (b - a).is_finite() {
+            (a, b)
+        } else {
+            (a.max(-f64::MAX / 2.0), b.min(f64::MAX / 2.0))
+        }
+    }
+}
+
+/// Picks the legend corner holding the fewest data points (in axis-normalised coordinates).
+fn legend_corner(
+    segs: &[Vec<(f64, f64)>],
+    x: (f64, f64),
+    y: (f64, f64),
+    chart: &Chart,
+) -> SeriesLabelPosition {
+    let norm = |v: f64, (a, b): (f64, f64), log: bool| {
+        if log {
+            (v.log10() - a.log10()) / (b.log10() - a.log10())
+        } else {
+            (v - a) / (b - a)
+        }
+    };
+    // (position, is right, is upper); ties keep this order of preference.
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let mut counts = [0usize; 4];
+    for &(px, py) in segs.iter().flatten() {
+        let (u, v) = (norm(px, x, chart.log_x), norm(py, y, chart.log_y));
+        for (k, &(_, right, upper)) in corners.iter().enumerate() {
+            let in_x = if right { u > 0.55 } else { u < 0.45 };
+            let in_y = if upper { v > 0.6 } else { v < 0.4 };
+            if in_x && in_y {
+                counts[k] += 1;
+            }
+        }
+    }
+    let best = (0..4).min_by_key(|&k| counts[k]).unwrap_or(0);
+    corners[best].0.clone()
+}
+
+/// Computes ranges and dispatches to [`draw_chart`] with linear or log axis types.
+fn draw_chart_any<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &Chart,
+) -> Result<(), PlotError> {
+    let segs: Vec<Vec<Vec<(f64, f64)>>> = chart
+        .series
+        .iter()
+        .map(|s| segments(s, chart.log_x, chart.log_y))
+        .collect();
+    let all = || segs.iter().flatten().flatten();
+    let xr = axis_range(all().map(|p| p.0), chart.log_x);
+    let yr = axis_range(all().map(|p| p.1), chart.log_y);
+    let flat: Vec<Vec<(f64, f64)>> = segs.iter().flatten().cloned().collect();
+    let (w, h) = area.dim_in_pixel();
+    let n_y = (h / 30).clamp(4, 12) as usize;
+    // Widest y tick label, to size the label area (plotters' ticks are close to these).
+    let y_ticks = if chart.log_y {
+        log_ticks(yr.0, yr.1, n_y)
+    } else {
+        linear_ticks(yr.0, yr.1, n_y)
+    };
+    let plan = Plan {
+        corner: legend_corner(&flat, xr, yr, chart),
+        n_x: (w / 45).clamp(4, 12) as usize,
+        n_y,
+        y_chars: y_ticks
+            .iter()
+            .map(|&v| format_tick(v).chars().count())
+            .max()
+            .unwrap_or(1),
+    };
+    let (x, y) = ((xr.0..xr.1), (yr.0..yr.1));
+    let (lx, ly) = (LogAxis::new(xr), LogAxis::new(yr));
+    match (chart.log_x, chart.log_y) {
+        (false, false) => draw_chart(area, chart, &segs, plan, x, y),
+        (true, false) => draw_chart(area, chart, &segs, plan, lx, y),
+        (false, true) => draw_chart(area, chart, &segs, plan, x, ly),
+        (true, true) => draw_chart(area, chart, &segs, plan, lx, ly),
+    }
+}
+
+/// Layout choices made from the data before the axis types are fixed.
+struct Plan {
+    /// Legend corner.
+    corner: SeriesLabelPosition,
+    /// Most x tick labels.
+    n_x: usize,
+    /// Most y tick labels.
+    n_y: usize,
+    /// Characters in the widest y tick label.
+    y_chars: usize,
+}
+
+/// Draws one chart with the given axis specifications.
+fn draw_chart<DB, X, Y>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &Chart,
+    segs: &[Vec<Vec<(f64, f64)>>],
+    plan: Plan,
+    x_spec: X,
+    y_spec: Y,
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: AsRangedCoord<Value = f64>,
+    Y: AsRangedCoord<Value = f64>,
+    X::CoordDescType: ValueFormatter<f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let (_, h) = area.dim_in_pixel();
+    let caption_font = (f64::from(h) / 20.0).clamp(11.0, 26.0);
+    let label_font = (caption_font * 0.72).max(10.0);
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(8)
+        .x_label_area_size((label_font * 3.2) as u32)
+        .y_label_area_size((label_font * (0.62 * plan.y_chars as f64 + 2.6)) as u32);
+    if !chart.title.is_empty() {
+        builder.caption(&chart.title, ("sans-serif", caption_font));
+    }
+    let mut ctx = builder
+        .build_cartesian_2d(x_spec, y_spec)
+        .map_err(PlotError::drawing)?;
+    ctx.configure_mesh()
+        .x_desc(chart.x_label.as_str())
+        .y_desc(chart.y_label.as_str())
+        .x_labels(plan.n_x)
+        .y_labels(plan.n_y)
+        .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format_tick(*v))
+        .label_style(("sans-serif", label_font))
+        .axis_desc_style(("sans-serif", label_font * 1.1))
+        .max_light_lines(4)
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()
+        .map_err(PlotError::drawing)?;
+
+    let marker = (label_font * 0.3).clamp(2.0, 5.0) as u32;
+    let mut any_label = false;
+    for (k, (s, runs)) in chart.series.iter().zip(segs.iter()).enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        let line = color.stroke_width(2);
+        let anno = ctx
+            .draw_series(runs.iter().map(|r| PathElement::new(r.clone(), line)))
+            .map_err(PlotError::drawing)?;
+        if !s.label.is_empty() {
+            any_label = true;
+            // Without markers the legend's circle has radius 0 and lies on the line.
+            let r = if s.points { marker } else { 0 };
+            anno.label(s.label.as_str()).legend(move |(lx, ly)| {
+                EmptyElement::at((lx, ly))
+                    + PathElement::new(vec![(0, 0), (20, 0)], color.stroke_width(2))
+                    + Circle::new((10, 0), r, color.filled())
+            });
+        }
+        if s.points {
+            ctx.draw_series(
+                runs.iter()
+                    .flatten()
+                    .map(|&p| Circle::new(p, marker, color.filled())),
+            )
+            .map_err(PlotError::drawing)?;
+        }
+    }
+    if any_label {
+        ctx.configure_series_labels()
+            .position(plan.corner)
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(150, 150, 150))
+            .label_font(("sans-serif", label_font))
+            .draw()
+            .map_err(PlotError::drawing)?;
+    }
+    Ok(())
+}
+
+/// A base-10 logarithmic axis over `lo..hi` (`0 < lo < hi`) whose ticks fall on 1, 2, 5 (or
+/// 1..9) times powers of ten as space allows, with linear ticks on ranges too narrow to hold two
+/// such values. (plotters' own log axis labels every 1..9 multiple, which overlaps.)
+#[derive(Debug, Clone)]
+struct LogAxis {
+    lo: f64,
+    hi: f64,
+}
+
+impl LogAxis {
+    fn new((lo, hi): (f64, f64)) -> Self {
+        LogAxis { lo, hi }
+    }
+}
+
+impl Ranged for LogAxis {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        let (a, b) = (self.lo.log10(), self.hi.log10());
+        // Non-positive values are never drawn (they are filtered out); map them far below.
+        let t = if *value > 0.0 {
+            (value.log10() - a) / (b - a)
+        } else {
+            -1.0
+        };
+        let px = f64::from(limit.0) + t * f64::from(limit.1 - limit.0);
+        px.round().clamp(-1.0e7, 1.0e7) as i32
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        log_ticks(self.lo, self.hi, hint.max_num_points())
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+/// At most `max` tick values in `lo..=hi` (`0 < lo < hi`) for a log axis.
+fn log_ticks(lo: f64, hi: f64, max: usize) -> Vec<f64> {
+    if max == 0 || !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let (d0, d1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    let with = |mantissas: &[f64], stride: i32| -> Vec<f64> {
+        let mut v = Vec::new();
+        for d in (d0..=d1).filter(|d| d.rem_euclid(stride) == 0) {
+            for &m in mantissas {
+                let t = m * 10f64.powi(d);
+                if t >= lo * (1.0 - 1e-12) && t <= hi * (1.0 + 1e-12) {
+                    v.push(t);
+                }
+            }
+        }
+        v
+    };
+    let sets: [&[f64]; 3] = [
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+        &[1.0, 2.0, 5.0],
+        &[1.0],
+    ];
+    let mut ticks = Vec::new();
+    for set in sets {
+        ticks = with(set, 1);
+        if ticks.len() <= max {
+            break;
+        }
+    }
+    if ticks.len() > max {
+        let decades = ticks.len();
+        let stride = decades.div_ceil(max) as i32;
+        ticks = with(&[1.0], stride);
+    }
+    if ticks.len() < 2 {
+        ticks = linear_ticks(lo, hi, max);
+    }
+    ticks
+}
+
+/// At most `max` evenly spaced "nice" values (steps of 1, 2 or 5 times a power of ten) in
+/// `lo..=hi`.
+fn linear_ticks(lo: f64, hi: f64, max: usize) -> Vec<f64> {
+    if max == 0 || hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+        return Vec::new();
+    }
+    let raw = (hi - lo) / max as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last)
+        .take(max.max(1))
+        .map(|k| k as f64 * step)
+        .collect()
+}
+
+/// Tick label: up to 4 significant digits (all integer digits below 1e6) without trailing
+/// zeros; scientific notation outside 1e-3..1e6.
+fn format_tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
+    }
+    let a = v.abs();
+    if !(1e-3..1e6).contains(&a) {
+        let s = format!("{v:.3e}");
+        // Trim the mantissa's trailing zeros: 2.50e3 -> 2.5e3, 1.00e-4 -> 1e-4.
+        match s.split_once('e') {
+            Some((m, e)) => {
+                let m = if m.contains('.') {
+                    m.trim_end_matches('0').trim_end_matches('.')
+                } else {
+                    m
+                };
+                format!("{m}e{e}")
+            }
+            None => s,
+        }
+    } else {
+        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        let s = format!("{v:.decimals$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        if s == "-0" { "0".into() } else { s }
+    }
+}
+
+#[cfg(test)]
+mod unit {
+    use super::*;
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(format_tick(0.0), "0");
+        assert_eq!(format_tick(0.30000000000000004), "0.3");
+        assert_eq!(format_tick(25.0), "25");
+        assert_eq!(format_tick(-1.5), "-1.5");
+        assert_eq!(format_tick(2500.0), "2500");
+        assert_eq!(format_tick(148000.0), "148000");
+        assert_eq!(format_tick(2.5e7), "2.5e7");
+        assert_eq!(format_tick(1.234e-5), "1.234e-5");
+        assert_eq!(format_tick(1e-4), "1e-4");
+    }
+
+    #[test]
+    fn log_ticks_thin_out_with_space() {
+        assert_eq!(
+            log_ticks(0.9, 60.0, 10),
+            vec![1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+        );
+        assert_eq!(log_ticks(0.9, 60.0, 3), vec![1.0, 10.0]);
+        assert_eq!(log_ticks(1e-6, 2e6, 4), vec![1e-4, 1.0, 1e4]);
+        // Narrow range without a power of ten: linear ticks.
+        assert_eq!(
+            log_ticks(1.5, 8.0, 10),
+            vec![2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]
+        );
+        assert!(log_ticks(1.5, 8.0, 0).is_empty());
+    }
+
+    #[test]
+    fn ranges_skip_non_finite_and_pad() {
+        let s = Series {
+            label: String::new(),
+            x: vec![0.0, 1.0, f64::NAN, 3.0, 4.0],
+            y: vec![1.0, 0.0, 5.0, f64::INFINITY, 2.0],
+            points: false,
+        };
+        let segs = segments(&s, false, true);
+        assert_eq!(segs, vec![vec![(0.0, 1.0)], vec![(4.0, 2.0)]]);
+        let (a, b) = axis_range([1.0, 3.0].into_iter(), false);
+        assert!((a - 0.9).abs() < 1e-12 && (b - 3.1).abs() < 1e-12);
+        assert_eq!(axis_range(std::iter::empty(), true), (1.0, 10.0));
+        let (a, b) = axis_range([-1e308, 1e308].into_iter(), false);
+        assert!((b - a).is_finite() && b > a);
+        let (a, b) = axis_range([5.0].into_iter(), true);
+        assert!(a > 0.0 && a < 5.0 && b > 5.0);
+    }
+}
