@@ -10,6 +10,9 @@
 //!
 //! Features: `plot` (figures and animations, plotters with a bundled font) and `cli` (the
 //! `cellsurf` program); both on by default. `--no-default-features` builds the engine alone.
+pub mod converge;
+#[cfg(feature = "plot")]
+pub mod figures;
 pub mod growth;
 pub mod io;
 pub mod lattice;

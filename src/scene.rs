@@ -227,25 +227,25 @@ pub const MAX_STEPS: u64 = 1 << 53;
 impl SceneConfig {
     /// The defaults of a scene, chosen so that the figures show what the paper describes
     /// (the paper gives no lattice sizes):
-    /// - flame: hexagonal 200 x 230 torus (physically square), square start of side 40,
+    /// - flame: hexagonal 120 x 138 torus (physically square), square start of side 20,
     ///   n = 2, snapshots 1000, 8000, 20000, 50000;
-    /// - deposit: hexagonal 200 x 160 channel (periodic in x, floor and ceiling walls), cosine
-    ///   of amplitude 25, n = 2, snapshots 10, 5000, 28000, 50000;
-    /// - crystal: hexagonal 240 x 276 torus, disc of diameter 30, n = 2, Eq. (5),
+    /// - deposit: hexagonal 50 x 200 channel (periodic in x, floor and ceiling walls), cosine
+    ///   of amplitude 12 (a narrow section, so that the trough fills within 50000 steps), n = 2, snapshots 10, 5000, 28000, 50000;
+    /// - crystal: hexagonal 180 x 208 torus, disc of diameter 30, n = 2, Eq. (5),
     ///   snapshots 1000, 30000, 50000, 80000;
-    /// - ca: square4 41 x 41 with walls, a seed cell, updates 1-4, rule `[1]` (Fig. 3);
+    /// - ca: square4 11 x 11 with walls, a seed cell, updates 1-4, rule `[1]` (Fig. 3);
     /// - grow: hexagonal 128 x 148 torus, a seed cell, n = 2, 20000 steps.
     pub fn defaults(scene: SceneKind) -> Self {
         let base = SceneConfig {
             scene,
             lattice: Neighbourhood::Hex,
-            width: 200,
-            height: 230,
+            width: 120,
+            height: 138,
             boundary: Boundary::TORUS,
             n: 2.0,
             weight: WeightKind::None,
             shape: Shape::Square,
-            start: 40.0,
+            start: 20.0,
             steps: 50_000,
             snapshots: vec![1000, 8000, 20_000, 50_000],
             sampler: SamplerKind::Exact,
@@ -256,17 +256,17 @@ impl SceneConfig {
         match scene {
             SceneKind::Flame => base,
             SceneKind::Deposit => SceneConfig {
-                width: 200,
-                height: 160,
+                width: 50,
+                height: 200,
                 boundary: Boundary::CHANNEL,
                 shape: Shape::Cosine,
-                start: 25.0,
+                start: 12.0,
                 snapshots: vec![10, 5000, 28_000, 50_000],
                 ..base
             },
             SceneKind::Crystal => SceneConfig {
-                width: 240,
-                height: 276,
+                width: 180,
+                height: 208,
                 weight: WeightKind::Axes,
                 shape: Shape::Disc,
                 start: 30.0,
@@ -276,8 +276,8 @@ impl SceneConfig {
             },
             SceneKind::Ca => SceneConfig {
                 lattice: Neighbourhood::Square4,
-                width: 41,
-                height: 41,
+                width: 11,
+                height: 11,
                 boundary: Boundary::WALLS,
                 n: 0.0,
                 shape: Shape::Point,
