@@ -114,7 +114,11 @@ pub fn converge_growth(seeds: usize) -> Result<Vec<ConvergeCurve>, SceneError> {
             let mut c = cfg.clone();
             c.sampler = sampler;
             // Disjoint seed ranges per sampler: independent estimates.
-            let first = if sampler == SamplerKind::Exact { 1_000 } else { 1 };
+            let first = if sampler == SamplerKind::Exact {
+                1_000
+            } else {
+                1
+            };
             out.push(converge(label, &c, first, seeds)?);
         }
     }

@@ -156,8 +156,13 @@ pub fn draw_snapshots(
 ) -> Result<(), PlotError> {
     let panels = snapshot_panels(r);
     let c = &r.config;
-    let tall = (c.height as f64) * if c.lattice.is_hex() { 0.866 } else { 1.0 } > c.width as f64 * 1.5;
-    let cols = if panels.len() == 4 && !tall { 2 } else { panels.len().clamp(1, 4) };
+    let tall =
+        (c.height as f64) * if c.lattice.is_hex() { 0.866 } else { 1.0 } > c.width as f64 * 1.5;
+    let cols = if panels.len() == 4 && !tall {
+        2
+    } else {
+        panels.len().clamp(1, 4)
+    };
     plot::lattice_panels(path, title, &panels, cols, palette, 420)
 }
 
@@ -186,7 +191,11 @@ fn mean_series(
 ) -> Result<Series, FigureError> {
     let mut sum: Vec<f64> = Vec::new();
     let mut times: Vec<f64> = Vec::new();
-    let first = if sampler == SamplerKind::Exact { 100 } else { 200 };
+    let first = if sampler == SamplerKind::Exact {
+        100
+    } else {
+        200
+    };
     for k in 0..CHART_SEEDS {
         let mut c = cfg.clone();
         c.sampler = sampler;

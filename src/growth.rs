@@ -170,8 +170,9 @@ fn occupy_cell<L: SlotListener>(
 }
 
 impl Growth {
-    /// An empty lattice with the rule `p = v (b/z)^n`. With `per_site_weights` (needed by the
-    /// exact sampler when `weight` is not uniform) the surface keeps a sum tree of `v`.
+    /// An empty lattice with the rule `p = v (b/z)^n`. With `per_site_weights` (used by the
+    /// exact sampler when `weight` is not uniform) the surface keeps a sum tree of `v` from the
+    /// start; without it, the exact sampler builds the tree on its first call.
     ///
     /// A custom weight is evaluated on every cell here, so that a value outside [0, 1] is
     /// reported before the run starts.
@@ -301,6 +302,19 @@ impl Growth {
             ),
         };
         self.occupied += added as usize;
+    }
+
+    /// Builds the per-slot weight tree from the current surface (the exact sampler calls this
+    /// when a non-uniform weight was set up without `per_site_weights`).
+    pub(crate) fn build_weight_tree(&mut self) {
+        let mut t = SumTree::new(self.surface.len().max(1024));
+        for (slot, &c) in self.surface.sites().iter().enumerate() {
+            t.set(
+                slot,
+                self.weight.at(&self.lattice, c as usize).unwrap_or(0.0),
+            );
+        }
+        self.tree = Some(t);
     }
 
     /// The sticking probability `p = v (b/z)^n` of a surface site (Eq. 4 and 5).

@@ -15,7 +15,9 @@ use cellsurf::io::write_atomic;
 use cellsurf::lattice::{Boundary, Neighbourhood};
 use cellsurf::plot::{CellField, GifWriter, Palette};
 use cellsurf::sampler::SamplerKind;
-use cellsurf::scene::{self, RunHooks, RunResult, SceneConfig, SceneKind, Shape, VERSION, WeightKind};
+use cellsurf::scene::{
+    self, RunHooks, RunResult, SceneConfig, SceneKind, Shape, VERSION, WeightKind,
+};
 
 #[derive(Parser)]
 #[command(
@@ -330,7 +332,9 @@ fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     };
     let frames = if gif.is_some() {
         let k = a.gif_frames.max(1) as u64;
-        (0..=k).map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64).collect()
+        (0..=k)
+            .map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64)
+            .collect()
     } else {
         Vec::new()
     };
@@ -413,7 +417,11 @@ fn summary(r: &RunResult) -> serde_json::Value {
 
 fn print_summary(r: &RunResult) {
     let c = &r.config;
-    println!("cellsurf {VERSION}: {} on {}", c.scene, figures::describe(c));
+    println!(
+        "cellsurf {VERSION}: {} on {}",
+        c.scene,
+        figures::describe(c)
+    );
     println!(
         "  timesteps {}  accepted {}  occupied {}  surface sites {}  ({:?})",
         r.last.time, r.last.accepted, r.last.occupied, r.last.surface, r.stop
@@ -471,7 +479,11 @@ fn make_figures(a: FiguresArgs) -> Result<()> {
                 Some(f) => vec![f],
                 None => bail!(
                     "--only '{name}' is not a figure; expected one of: {}",
-                    FIGURES.iter().map(|f| f.name).collect::<Vec<_>>().join(", ")
+                    FIGURES
+                        .iter()
+                        .map(|f| f.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             }
         }
@@ -506,12 +518,20 @@ fn converge_cmd(a: ConvergeArgs) -> Result<()> {
         println!("{}", serde_json::to_string(&curves)?);
         return Ok(());
     }
-    println!("{:14} {:10} {:20} {:>10} {:>12} {:>12}", "case", "sampler", "observable", "mean", "std error", "run time s");
+    println!(
+        "{:14} {:10} {:20} {:>10} {:>12} {:>12}",
+        "case", "sampler", "observable", "mean", "std error", "run time s"
+    );
     for c in &curves {
         if let Some(p) = c.points.last() {
             println!(
                 "{:14} {:10} {:20} {:>10.5} {:>12.3e} {:>12.3}",
-                c.label, c.sampler.name(), c.observable, p.mean, p.std_error, p.cpu_s
+                c.label,
+                c.sampler.name(),
+                c.observable,
+                p.mean,
+                p.std_error,
+                p.cpu_s
             );
         }
     }

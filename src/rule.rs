@@ -72,9 +72,9 @@ impl Sticking {
             p[b] = power_law(b, z, n);
             ln_p[b] = n * (b as f64 / z as f64).ln();
         }
-        for r in 1..=z {
-            for b in 1..=r {
-                ratio[r][b] = (n * (b as f64 / r as f64).ln()).exp();
+        for (r, row) in ratio.iter_mut().enumerate().take(z + 1).skip(1) {
+            for (b, x) in row.iter_mut().enumerate().take(r + 1).skip(1) {
+                *x = (n * (b as f64 / r as f64).ln()).exp();
             }
         }
         Ok(Sticking {

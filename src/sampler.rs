@@ -183,6 +183,9 @@ impl Growth {
         if self.time >= limit {
             return Outcome::Limit;
         }
+        if self.tree.is_none() && !self.weight.is_uniform() {
+            self.build_weight_tree();
+        }
         let z = self.lattice.z();
         // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
         // class (highest b with m_b > 0).
@@ -237,11 +240,11 @@ impl Growth {
                 self.time + wait + 1.0
             }
         };
+        if at.is_infinite() {
+            self.time = at;
+            return Outcome::ClockOverflow;
+        }
         if at > limit {
-            if at.is_infinite() {
-                self.time = at;
-                return Outcome::ClockOverflow;
-            }
             // The next acceptance comes after the limit: pause here.
             self.pending = Some(at);
             self.time = limit;

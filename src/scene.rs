@@ -305,7 +305,7 @@ impl SceneConfig {
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let table: toml::Table = text
             .parse()
-            .map_err(|e: toml::de::Error| SceneError::Toml(e.message().to_string()))?;
+            .map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))?;
         let scene = match table.get("scene") {
             Some(toml::Value::String(s)) => {
                 let v = toml::Value::String(s.clone());
