@@ -26,6 +26,9 @@ pub enum FigureError {
     /// No figure has this name.
     #[error("unknown figure '{0}': `cellsurf figures --list` lists them")]
     Unknown(String),
+    /// A model's own error, as text.
+    #[error("{0}")]
+    Model(String),
 }
 
 /// The scenario files, by figure name.
@@ -68,7 +71,8 @@ pub struct Figure {
     pub name: &'static str,
     /// What it shows.
     pub about: &'static str,
-    make: fn(&Path) -> Result<Vec<PathBuf>, FigureError>,
+    /// Writes the figure's files into a folder.
+    pub make: fn(&Path) -> Result<Vec<PathBuf>, FigureError>,
 }
 
 impl Figure {
@@ -79,7 +83,16 @@ impl Figure {
     }
 }
 
-/// Every figure, in the paper's order.
+/// Every figure of every model: the growth paper's, then the related models'.
+pub fn all() -> impl Iterator<Item = &'static Figure> {
+    FIGURES
+        .iter()
+        .chain(crate::windripples::FIGURES)
+        .chain(crate::dunes::FIGURES)
+        .chain(crate::cursor::FIGURES)
+}
+
+/// The growth paper's figures, in the paper's order.
 pub const FIGURES: &[Figure] = &[
     Figure {
         name: "growth_fig3_ca",

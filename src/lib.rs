@@ -11,6 +11,8 @@
 //! Features: `plot` (figures and animations, plotters with a bundled font) and `cli` (the
 //! `cellsurf` program); both on by default. `--no-default-features` builds the engine alone.
 pub mod converge;
+pub mod cursor;
+pub mod dunes;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod growth;
@@ -24,3 +26,4 @@ pub mod sampler;
 pub mod scene;
 pub mod sumtree;
 pub mod surface;
+pub mod windripples;

@@ -9,7 +9,9 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::converge;
-use cellsurf::figures::{self, FIGURES};
+use cellsurf::figures;
+
+mod cmd;
 use cellsurf::growth::Growth;
 use cellsurf::io::write_atomic;
 use cellsurf::lattice::{Boundary, Neighbourhood};
@@ -53,6 +55,12 @@ enum Cmd {
     Figures(FiguresArgs),
     /// Error against run time: standard error of each scene's observable over seeds.
     Converge(ConvergeArgs),
+    /// Wind ripples: the particle model of the wind-ripple notebook (diffusion + saltation).
+    WindRipples(cmd::windripples::Args),
+    /// Werner-model dunes: slab model, ripple mode and dune mode.
+    Dunes(cmd::dunes::Args),
+    /// Wind-field cursor walk: one random walker on an 8-neighbour torus under a wind field.
+    Cursor(cmd::cursor::Args),
 }
 
 #[derive(Args, Clone)]
@@ -173,6 +181,9 @@ fn main() -> ExitCode {
         Cmd::Grow(a) => grow(SceneKind::Grow, a),
         Cmd::Figures(a) => make_figures(a),
         Cmd::Converge(a) => converge_cmd(a),
+        Cmd::WindRipples(a) => cmd::windripples::run(a),
+        Cmd::Dunes(a) => cmd::dunes::run(a),
+        Cmd::Cursor(a) => cmd::cursor::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -467,27 +478,26 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
 
 fn make_figures(a: FiguresArgs) -> Result<()> {
     if a.list {
-        for f in FIGURES {
+        for f in figures::all() {
             println!("{:24} {}", f.name, f.about);
         }
         return Ok(());
     }
     let chosen: Vec<_> = match &a.only {
         Some(name) => {
-            let f = FIGURES.iter().find(|f| f.name == name.as_str());
+            let f = figures::all().find(|f| f.name == name.as_str());
             match f {
                 Some(f) => vec![f],
                 None => bail!(
                     "--only '{name}' is not a figure; expected one of: {}",
-                    FIGURES
-                        .iter()
+                    figures::all()
                         .map(|f| f.name)
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
             }
         }
-        None => FIGURES.iter().collect(),
+        None => figures::all().collect(),
     };
     let t0 = Instant::now();
     for f in chosen {

@@ -1,0 +1,4 @@
+//! Subcommands of the related models, one file each.
+pub mod cursor;
+pub mod dunes;
+pub mod windripples;
