@@ -78,7 +78,7 @@ struct GrowArgs {
     #[arg(long)]
     boundary: Option<Boundary>,
     /// Power-law exponent n >= 0 of p = v (b/z)^n.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     n: Option<f64>,
     /// Direction weight v: none (v = 1) or axes (Eq. 5).
     #[arg(long)]
@@ -88,7 +88,7 @@ struct GrowArgs {
     shape: Option<Shape>,
     /// Size of the initial shape in cell widths: square side, disc diameter, cosine amplitude,
     /// flat thickness.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     start: Option<f64>,
     /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca).
     #[arg(long)]

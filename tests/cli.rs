@@ -1,0 +1,155 @@
+//! The `cellsurf` program as a user meets it: JSON summaries, files written, reproducible
+//! output, and bad input rejected with a message and a non-zero exit (never a panic).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cellsurf(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args(args)
+        .output()
+        .expect("run cellsurf")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cellsurf-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+#[test]
+fn json_summary_has_the_promised_keys() {
+    let small = [
+        "--size", "40x46", "--start", "8", "--steps", "3000", "--json",
+    ];
+    for (scene, keys) in [
+        ("flame", vec!["front_radius_cv"]),
+        ("crystal", vec!["axis_diagonal_ratio"]),
+        ("deposit", vec!["mode1_amplitude", "mean_elevation"]),
+    ] {
+        let mut args = vec![scene];
+        args.extend(small);
+        let v = json(&cellsurf(&args));
+        for k in [
+            "scene",
+            "steps",
+            "accepted",
+            "occupied",
+            "elapsed_s",
+            "version",
+            "parameters",
+        ]
+        .iter()
+        .chain(keys.iter())
+        {
+            assert!(v.get(k).is_some(), "{scene}: missing {k} in {v}");
+        }
+        assert_eq!(v["scene"], scene);
+        assert_eq!(v["steps"], 3000.0);
+    }
+}
+
+#[test]
+fn same_seed_same_output_bytes() {
+    let a = tmp("a.csv");
+    let b = tmp("b.csv");
+    for p in [&a, &b] {
+        let out = cellsurf(&[
+            "flame",
+            "--size",
+            "40x46",
+            "--start",
+            "8",
+            "--steps",
+            "4000",
+            "--seed",
+            "7",
+            "--csv",
+            p.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(out.status.success());
+    }
+    let (ta, tb) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    assert_eq!(ta, tb);
+    let text = String::from_utf8(ta).unwrap();
+    assert!(text.starts_with("# cellsurf "), "version recorded");
+    assert!(text.contains("# seed = 7"), "parameters recorded");
+}
+
+#[test]
+fn figure_and_animation_files_are_written() {
+    let png = tmp("f.png");
+    let gif = tmp("f.gif");
+    let out = cellsurf(&[
+        "crystal",
+        "--size",
+        "48x56",
+        "--start",
+        "10",
+        "--steps",
+        "4000",
+        "--snapshots",
+        "1000,4000",
+        "--out",
+        png.to_str().unwrap(),
+        "--gif",
+        gif.to_str().unwrap(),
+        "--gif-frames",
+        "5",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    assert_eq!(&std::fs::read(&gif).unwrap()[..3], b"GIF");
+}
+
+#[test]
+fn bad_input_is_rejected_without_a_panic() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["flame", "--n", "-1"], "n = -1"),
+        (&["flame", "--n", "NaN"], "n = NaN"),
+        (&["flame", "--size", "0"], "width = 0"),
+        (&["flame", "--size", "20x21"], "height = 21"),
+        (&["flame", "--snapshots", "5,3"], "snapshots"),
+        (&["flame", "--steps", "0"], "steps = 0"),
+        (&["flame", "--size", "abc"], "not a size"),
+        (&["grow", "--lattice", "tri"], "tri"),
+        (&["ca", "--ca-rule", "9"], "ca_rule"),
+        (
+            &["flame", "--scenario", "/nonexistent/x.toml"],
+            "--scenario",
+        ),
+        (&["figures", "--only", "nope"], "nope"),
+        (&["converge", "growth", "--seeds", "1"], "--seeds = 1"),
+    ];
+    for (args, needle) in cases {
+        let out = cellsurf(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn failed_run_leaves_no_partial_file() {
+    let png = tmp("never.png");
+    let _ = std::fs::remove_file(&png);
+    let out = cellsurf(&["flame", "--n", "-2", "--out", png.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(!png.exists());
+}
