@@ -8,7 +8,7 @@
 //! The clock ([`Growth::time`]) counts Monte Carlo timesteps as the paper does: one pick of a
 //! surface site, accepted or not. The samplers that advance it live in [`crate::sampler`].
 //!
-//! Memory: 5 bytes per cell (state, slot), plus 4 bytes per surface site, plus 16 bytes per surface slot when a non-uniform weight is sampled exactly.
+//! Memory: 4 bytes per cell (state and slot in one word), plus 4 bytes per surface site, plus 16 bytes per surface slot when a non-uniform weight is sampled exactly.
 
 use thiserror::Error;
 
@@ -19,6 +19,21 @@ use crate::surface::{SlotListener, Surface};
 
 /// State value of an occupied cell; empty cells hold their occupied-neighbour count.
 pub const OCCUPIED: u8 = u8::MAX;
+
+/// Bit position of the state in a cell word.
+const B_SHIFT: u32 = 28;
+/// Mask of the slot in a cell word.
+const SLOT_MASK: u32 = (1 << B_SHIFT) - 1;
+/// The state of an occupied cell in a cell word.
+pub(crate) const OCC: u32 = 15;
+/// The largest lattice a growth run supports: slots have 28 bits.
+pub const MAX_GROWTH_CELLS: usize = SLOT_MASK as usize;
+
+/// The state (`b`, or [`OCC`]) of a cell word.
+#[inline(always)]
+pub(crate) fn b_of(w: u32) -> u32 {
+    w >> B_SHIFT
+}
 
 /// Errors while setting up or running growth.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -60,10 +75,11 @@ pub struct Growth {
     pub(crate) lattice: Lattice,
     pub(crate) rule: Sticking,
     pub(crate) weight: Weight,
-    /// Per cell: [`OCCUPIED`], or the number of occupied neighbours.
-    pub(crate) state: Vec<u8>,
-    /// Per cell: its slot in `surface` (meaningful for surface sites only).
-    pub(crate) slot: Vec<u32>,
+    /// Per cell, one word: the state in the top 4 bits ([`OCC`] for an occupied cell, else
+    /// the number of occupied neighbours `b`) and the slot in `surface` in the low 28 bits
+    /// (meaningful for surface sites only). State and slot share a cache line, which halves
+    /// the memory traffic of an event.
+    pub(crate) cells: Vec<u32>,
     pub(crate) surface: Surface,
     /// Per-slot weights `v`, kept only for exact sampling with a non-uniform weight.
     pub(crate) tree: Option<SumTree>,
@@ -74,32 +90,55 @@ pub struct Growth {
     pub(crate) occupied: usize,
 }
 
-/// Keeps the per-cell slot table in step with the surface.
+/// Per-cell words as the surface's listener: slot changes are written into the low bits.
+trait CellWords: SlotListener {
+    fn word(&self, cell: usize) -> u32;
+    fn set_word(&mut self, cell: usize, w: u32);
+}
+
+/// Keeps the per-cell slots in step with the surface.
 struct SlotSink<'a> {
-    slot: &'a mut [u32],
+    cells: &'a mut [u32],
+}
+
+#[inline(always)]
+fn set_slot(cells: &mut [u32], cell: usize, slot: usize) {
+    let w = &mut cells[cell];
+    *w = (*w & !SLOT_MASK) | slot as u32;
 }
 
 impl SlotListener for SlotSink<'_> {
     #[inline(always)]
     fn slot_of(&self, cell: usize) -> usize {
-        self.slot[cell] as usize
+        (self.cells[cell] & SLOT_MASK) as usize
     }
     #[inline(always)]
     fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        self.slot[cell_a as usize] = a as u32;
-        self.slot[cell_b as usize] = b as u32;
+        set_slot(self.cells, cell_a as usize, a);
+        set_slot(self.cells, cell_b as usize, b);
     }
     #[inline(always)]
     fn pushed(&mut self, cell: u32, slot: usize) {
-        self.slot[cell as usize] = slot as u32;
+        set_slot(self.cells, cell as usize, slot);
     }
     #[inline(always)]
     fn popped(&mut self, _slot: usize) {}
 }
 
-/// Keeps the slot table and the per-slot weights in step with the surface.
+impl CellWords for SlotSink<'_> {
+    #[inline(always)]
+    fn word(&self, cell: usize) -> u32 {
+        self.cells[cell]
+    }
+    #[inline(always)]
+    fn set_word(&mut self, cell: usize, w: u32) {
+        self.cells[cell] = w;
+    }
+}
+
+/// Keeps the slots and the per-slot weights in step with the surface.
 struct WeightSink<'a> {
-    slot: &'a mut [u32],
+    cells: &'a mut [u32],
     tree: &'a mut SumTree,
     lattice: &'a Lattice,
     weight: &'a Weight,
@@ -108,19 +147,19 @@ struct WeightSink<'a> {
 impl SlotListener for WeightSink<'_> {
     #[inline(always)]
     fn slot_of(&self, cell: usize) -> usize {
-        self.slot[cell] as usize
+        (self.cells[cell] & SLOT_MASK) as usize
     }
     #[inline]
     fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        self.slot[cell_a as usize] = a as u32;
-        self.slot[cell_b as usize] = b as u32;
+        set_slot(self.cells, cell_a as usize, a);
+        set_slot(self.cells, cell_b as usize, b);
         let (va, vb) = (self.tree.get(b), self.tree.get(a));
         self.tree.set(a, va);
         self.tree.set(b, vb);
     }
     #[inline]
     fn pushed(&mut self, cell: u32, slot: usize) {
-        self.slot[cell as usize] = slot as u32;
+        set_slot(self.cells, cell as usize, slot);
         self.tree.reserve_slot(slot);
         // Checked over the whole lattice when the run was built.
         let v = self.weight.at(self.lattice, cell as usize).unwrap_or(0.0);
@@ -132,40 +171,50 @@ impl SlotListener for WeightSink<'_> {
     }
 }
 
-/// Occupies `cell` in `state` and `surface`, telling `sink` of every slot change; `slot`
-/// is the per-cell slot table that `sink` keeps (read here, written through `sink`).
+impl CellWords for WeightSink<'_> {
+    #[inline(always)]
+    fn word(&self, cell: usize) -> u32 {
+        self.cells[cell]
+    }
+    #[inline(always)]
+    fn set_word(&mut self, cell: usize, w: u32) {
+        self.cells[cell] = w;
+    }
+}
+
+/// Occupies `cell`, updating the neighbours' counts and the surface; `sink` holds the cell
+/// words and hears of every slot change.
 #[inline(always)]
-fn occupy_cell<L: SlotListener>(
+fn occupy_cell<L: CellWords>(
     lattice: &Lattice,
-    state: &mut [u8],
     surface: &mut Surface,
     cell: usize,
     sink: &mut L,
 ) -> bool {
-    let s = state[cell];
-    if s == OCCUPIED {
+    let w = sink.word(cell);
+    let s = b_of(w);
+    if s == OCC {
         return false;
     }
     if s >= 1 {
-        let at = sink.slot_of(cell);
-        surface.remove(at, s as usize, sink);
+        surface.remove((w & SLOT_MASK) as usize, s as usize, sink);
     }
-    state[cell] = OCCUPIED;
-    let list = lattice.neighbour_list(cell);
-    for &n in list.as_slice() {
-        let n = n as usize;
-        let sn = state[n];
-        if sn == OCCUPIED {
-            continue;
+    sink.set_word(cell, OCC << B_SHIFT);
+    lattice.for_each_neighbour(cell, |n| {
+        let wn = sink.word(n);
+        let sn = b_of(wn);
+        if sn == OCC {
+            return;
         }
         if sn == 0 {
             surface.insert_class1(n as u32, sink);
         } else {
-            let at = sink.slot_of(n);
-            surface.promote(at, sn as usize, sink);
+            surface.promote((wn & SLOT_MASK) as usize, sn as usize, sink);
         }
-        state[n] = sn + 1;
-    }
+        // The slot may have moved in the surface update: keep it, raise b by one.
+        let wn = sink.word(n);
+        sink.set_word(n, wn + (1 << B_SHIFT));
+    });
     true
 }
 
@@ -194,14 +243,19 @@ impl Growth {
             }
         }
         let n = lattice.len();
+        if n > MAX_GROWTH_CELLS {
+            return Err(GrowthError::CellOutOfRange {
+                cell: n,
+                len: MAX_GROWTH_CELLS,
+            });
+        }
         let z = lattice.z();
         let tree = (per_site_weights && !weight.is_uniform()).then(|| SumTree::new(1024));
         Ok(Growth {
             lattice,
             rule,
             weight,
-            state: vec![0; n],
-            slot: vec![0; n],
+            cells: vec![0; n],
             surface: Surface::new(z),
             tree,
             time: 0.0,
@@ -244,20 +298,29 @@ impl Growth {
     /// True when `cell` is occupied.
     #[inline]
     pub fn is_occupied(&self, cell: usize) -> bool {
-        self.state[cell] == OCCUPIED
+        b_of(self.cells[cell]) == OCC
+    }
+
+    /// [`OCCUPIED`] for an occupied cell, else its number of occupied neighbours.
+    #[inline]
+    pub fn state(&self, cell: usize) -> u8 {
+        match b_of(self.cells[cell]) {
+            OCC => OCCUPIED,
+            b => b as u8,
+        }
     }
     /// Occupied neighbours of an empty cell (`None` for an occupied one).
     pub fn occupied_neighbours(&self, cell: usize) -> Option<usize> {
-        let s = self.state[cell];
+        let s = self.state(cell);
         (s != OCCUPIED).then_some(s as usize)
     }
 
     /// Occupies `cell` (no effect if it already is), updating the surface.
     pub fn occupy(&mut self, cell: usize) -> Result<(), GrowthError> {
-        if cell >= self.state.len() {
+        if cell >= self.cells.len() {
             return Err(GrowthError::CellOutOfRange {
                 cell,
-                len: self.state.len(),
+                len: self.cells.len(),
             });
         }
         self.pending = None;
@@ -281,20 +344,18 @@ impl Growth {
         let added = match self.tree.as_mut() {
             None => occupy_cell(
                 &self.lattice,
-                &mut self.state,
                 &mut self.surface,
                 cell,
                 &mut SlotSink {
-                    slot: &mut self.slot,
+                    cells: &mut self.cells,
                 },
             ),
             Some(tree) => occupy_cell(
                 &self.lattice,
-                &mut self.state,
                 &mut self.surface,
                 cell,
                 &mut WeightSink {
-                    slot: &mut self.slot,
+                    cells: &mut self.cells,
                     tree,
                     lattice: &self.lattice,
                     weight: &self.weight,
@@ -320,7 +381,7 @@ impl Growth {
     /// The sticking probability `p = v (b/z)^n` of a surface site (Eq. 4 and 5).
     #[inline]
     pub fn probability(&self, cell: usize) -> f64 {
-        let s = self.state[cell];
+        let s = self.state(cell);
         if s == OCCUPIED || s == 0 {
             return 0.0;
         }
@@ -330,10 +391,10 @@ impl Growth {
 
     /// The state of every cell for drawing: see [`draw_state`].
     pub fn field_states(&self) -> Vec<u8> {
-        self.state
+        self.cells
             .iter()
-            .map(|&s| match s {
-                OCCUPIED => draw_state::OCCUPIED,
+            .map(|&w| match b_of(w) {
+                OCC => draw_state::OCCUPIED,
                 0 => draw_state::EMPTY,
                 _ => draw_state::SURFACE,
             })
@@ -342,8 +403,7 @@ impl Growth {
 
     /// Bytes of memory held by the run (lattice tables, per-cell state, surface).
     pub fn memory_bytes(&self) -> usize {
-        self.state.capacity()
-            + self.slot.capacity() * 4
+        self.cells.capacity() * 4
             + self.surface.sites().len() * 4
             + self.tree.as_ref().map_or(0, |t| t.capacity() * 16)
     }
@@ -354,24 +414,24 @@ impl Growth {
         let mut occ = 0;
         let mut on_surface = 0;
         for c in 0..self.lattice.len() {
-            if self.state[c] == OCCUPIED {
+            if self.is_occupied(c) {
                 occ += 1;
                 continue;
             }
             let b = self
                 .lattice
                 .neighbours(c)
-                .filter(|&n| self.state[n] == OCCUPIED)
+                .filter(|&n| self.is_occupied(n))
                 .count();
-            if b != self.state[c] as usize {
+            if b != self.state(c) as usize {
                 return Err(format!(
                     "cell {c}: stored b = {}, counted {b}",
-                    self.state[c]
+                    self.state(c)
                 ));
             }
             if b >= 1 {
                 on_surface += 1;
-                let slot = self.slot[c] as usize;
+                let slot = (self.cells[c] & SLOT_MASK) as usize;
                 if self.surface.site(slot) as usize != c {
                     return Err(format!("cell {c}: slot {slot} holds another site"));
                 }

@@ -401,6 +401,33 @@ impl Lattice {
         NeighbourList { ids, len }
     }
 
+    /// Calls `f` with each existing neighbour of `cell`, in the order of
+    /// [`Neighbourhood::offsets`]: the allocation-free form of [`Lattice::neighbour_list`]
+    /// for hot loops.
+    #[inline(always)]
+    pub fn for_each_neighbour(&self, cell: usize, mut f: impl FnMut(usize)) {
+        let (w, h) = (self.width, self.height);
+        let (x, y) = (
+            (cell as u32 % w as u32) as usize,
+            (cell as u32 / w as u32) as usize,
+        );
+        if x >= 1 && x + 1 < w && y >= 1 && y + 1 < h {
+            let z = self.hood.z();
+            let d = &self.delta[y & 1];
+            for &dk in &d[..z] {
+                f((cell as i64 + dk) as usize);
+            }
+            return;
+        }
+        for &(dx, dy) in self.hood.offsets(y) {
+            let nx = wrap(x as i64 + dx as i64, w, self.boundary.x);
+            let ny = wrap(y as i64 + dy as i64, h, self.boundary.y);
+            if let (Some(nx), Some(ny)) = (nx, ny) {
+                f(ny * w + nx);
+            }
+        }
+    }
+
     /// The existing neighbours of `cell`.
     pub fn neighbours(&self, cell: usize) -> impl Iterator<Item = usize> {
         let list = self.neighbour_list(cell);

@@ -126,7 +126,14 @@ pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
     if p >= 1.0 {
         return 0.0;
     }
-    (e / -(-p).ln_1p()).floor()
+    let k = e / -(-p).ln_1p();
+    // floor() of a non-negative value below 2^63 by truncation (floor is a library call on
+    // the baseline x86-64 target); larger values keep their f64 (integral already).
+    if k < 9.2e18 {
+        (k as u64) as f64
+    } else {
+        k.floor()
+    }
 }
 
 impl Growth {
@@ -146,7 +153,7 @@ impl Growth {
             self.time += 1.0;
             let slot = rng.random_range(0..s as u32) as usize;
             let cell = self.surface.site(slot) as usize;
-            let b = self.state[cell] as usize;
+            let b = crate::growth::b_of(self.cells[cell]) as usize;
             let mut p = self.rule.p(b);
             if !uniform {
                 p *= self.weight.at(&self.lattice, cell).unwrap_or(0.0);
@@ -193,19 +200,19 @@ impl Growth {
         let mut top = 0;
         match &self.tree {
             None => {
-                for (b, m) in mass.iter_mut().enumerate().take(z + 1).skip(1) {
+                for b in 1..=z {
                     let len = self.surface.class_len(b);
-                    *m = len as f64;
+                    mass[b] = len as f64;
                     if len > 0 {
                         top = b;
                     }
                 }
             }
             Some(t) => {
-                for (b, m) in mass.iter_mut().enumerate().take(z + 1).skip(1) {
+                for b in 1..=z {
                     let r = self.surface.class_range(b);
-                    *m = t.range_sum(r.start, r.end);
-                    if *m > 0.0 {
+                    mass[b] = t.range_sum(r.start, r.end);
+                    if mass[b] > 0.0 {
                         top = b;
                     }
                 }
@@ -230,11 +237,17 @@ impl Growth {
             Some(at) => at,
             None => {
                 // P = total (top/z)^n / S, in the linear domain unless (top/z)^n underflows.
-                let e: f64 = rng.sample(Exp1);
+                // P = 1 (every pick accepted, e.g. n = 0) needs no draw.
                 let p_top = self.rule.p(top);
                 let wait = if p_top > 1e-280 {
-                    rejected_picks_linear(total * p_top / s as f64, e)
+                    let p = total * p_top / s as f64;
+                    if p >= 1.0 {
+                        0.0
+                    } else {
+                        rejected_picks_linear(p, rng.sample(Exp1))
+                    }
                 } else {
+                    let e: f64 = rng.sample(Exp1);
                     rejected_picks(total.ln() + self.rule.ln_p(top) - (s as f64).ln(), e)
                 };
                 self.time + wait + 1.0
@@ -251,7 +264,8 @@ impl Growth {
             return Outcome::Limit;
         }
         self.time = at;
-        // The class, proportional to w_b.
+        // The site: its class with probability w_b / total, then a site of the class, uniform
+        // (v = 1) or proportional to v (sum tree).
         let mut u = rng.random::<f64>() * total;
         let mut class = top;
         for b in (1..=top).rev() {
@@ -265,7 +279,9 @@ impl Growth {
         }
         let r = self.surface.class_range(class);
         let slot = match &self.tree {
-            None => r.start + rng.random_range(0..(r.end - r.start) as u32) as usize,
+            // u is uniform in [0, w_b) = [0, count_b ratio_b): u / ratio_b is uniform over
+            // the class's slots, so one draw picks both class and site.
+            None => r.start + ((u / ratio[class]) as usize).min(r.end - r.start - 1),
             Some(t) => {
                 let u: f64 = rng.random();
                 // The class has positive mass, so a slot with v > 0 exists.
@@ -413,11 +429,11 @@ mod tests {
         assert_eq!(
             ev,
             vec![
-                (11.0, 154),
-                (19.0, 87),
-                (22.0, 182),
-                (29.0, 183),
-                (38.0, 149)
+                (11.0, 149),
+                (26.0, 183),
+                (40.0, 86),
+                (43.0, 165),
+                (45.0, 186),
             ],
             "exact events"
         );
