@@ -182,6 +182,8 @@ impl Growth {
     /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
     /// site directly. Returns at the acceptance, or moves the clock to `limit` if the next
     /// acceptance would come later.
+    // The class number b indexes several tables at once; plain index loops read best.
+    #[allow(clippy::needless_range_loop)]
     pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
         let s = self.surface.len();
         if s == 0 {
