@@ -90,6 +90,7 @@ pub fn all() -> impl Iterator<Item = &'static Figure> {
         .chain(crate::windripples::FIGURES)
         .chain(crate::dunes::FIGURES)
         .chain(crate::cursor::FIGURES)
+        .chain(crate::ripple::FIGURES)
 }
 
 /// The growth paper's figures, in the paper's order.

@@ -55,6 +55,8 @@ enum Cmd {
     Figures(FiguresArgs),
     /// Error against run time: standard error of each scene's observable over seeds.
     Converge(ConvergeArgs),
+    /// Sand-ripple volume generator: sand and water volumes, written for acoustic models.
+    Ripple(cmd::ripple::Args),
     /// Wind ripples: the particle model of the wind-ripple notebook (diffusion + saltation).
     WindRipples(cmd::windripples::Args),
     /// Werner-model dunes: slab model, ripple mode and dune mode.
@@ -181,6 +183,7 @@ fn main() -> ExitCode {
         Cmd::Grow(a) => grow(SceneKind::Grow, a),
         Cmd::Figures(a) => make_figures(a),
         Cmd::Converge(a) => converge_cmd(a),
+        Cmd::Ripple(a) => cmd::ripple::run(a),
         Cmd::WindRipples(a) => cmd::windripples::run(a),
         Cmd::Dunes(a) => cmd::dunes::run(a),
         Cmd::Cursor(a) => cmd::cursor::run(a),

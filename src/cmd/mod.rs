@@ -1,4 +1,5 @@
 //! Subcommands of the related models, one file each.
 pub mod cursor;
 pub mod dunes;
+pub mod ripple;
 pub mod windripples;
