@@ -79,7 +79,16 @@ impl Figure {
     /// Writes the figure (and its companion charts) into `dir`; returns the files written.
     pub fn make(&self, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         std::fs::create_dir_all(dir).map_err(PlotError::Io)?;
-        (self.make)(dir)
+        // Record the scenario (where the figure has one) in every PNG it writes.
+        let params = SCENARIOS
+            .iter()
+            .find(|(n, _)| *n == self.name)
+            .map(|(_, t)| t.to_string())
+            .unwrap_or_else(|| format!("figure = \"{}\"", self.name));
+        plot::set_png_parameters(Some(params));
+        let r = (self.make)(dir);
+        plot::set_png_parameters(None);
+        r
     }
 }
 

@@ -371,6 +371,7 @@ fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         gif.finish()
             .with_context(|| format!("writing --gif {}", p.display()))?;
     }
+    cellsurf::plot::set_png_parameters(Some(cfg.to_toml()));
     if let Some(p) = &a.out {
         if r.snapshots.is_empty() {
             bail!("--out needs at least one snapshot (--snapshots)");

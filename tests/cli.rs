@@ -113,7 +113,15 @@ fn figure_and_animation_files_are_written() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    // Provenance chunks: the version and the run's parameters.
+    let has = |needle: &[u8]| bytes.windows(needle.len()).any(|w| w == needle);
+    assert!(has(b"Software") && has(b"cellsurf "), "version chunk");
+    assert!(
+        has(b"parameters") && has(b"scene = \"crystal\""),
+        "parameters chunk"
+    );
     assert_eq!(&std::fs::read(&gif).unwrap()[..3], b"GIF");
 }
 

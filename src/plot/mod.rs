@@ -118,15 +118,32 @@ pub(crate) fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotErro
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
-        let mut writer = enc
-            .write_header()
-            .map_err(|e| PlotError::Encoding(e.to_string()))?;
-        writer
-            .write_image_data(rgb)
-            .map_err(|e| PlotError::Encoding(e.to_string()))?;
-        writer
-            .finish()
-            .map_err(|e| PlotError::Encoding(e.to_string()))?;
+        // Provenance: the version always, the run's parameters when the caller set them.
+        let enc_err = |e: png::EncodingError| PlotError::Encoding(e.to_string());
+        enc.add_text_chunk(
+            "Software".to_string(),
+            format!("cellsurf {}", env!("CARGO_PKG_VERSION")),
+        )
+        .map_err(enc_err)?;
+        if let Some(p) = PNG_PARAMETERS.with(|m| m.borrow().clone()) {
+            enc.add_itxt_chunk("parameters".to_string(), p)
+                .map_err(enc_err)?;
+        }
+        let mut writer = enc.write_header().map_err(enc_err)?;
+        writer.write_image_data(rgb).map_err(enc_err)?;
+        writer.finish().map_err(enc_err)?;
     }
     Ok(out)
+}
+
+thread_local! {
+    static PNG_PARAMETERS: std::cell::RefCell<Option<String>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Sets the parameters text recorded (as an iTXt chunk named `parameters`) in every PNG this
+/// thread writes from now on; `None` records the version only. Every PNG carries a
+/// `Software` chunk with the cellsurf version.
+pub fn set_png_parameters(text: Option<String>) {
+    PNG_PARAMETERS.with(|m| *m.borrow_mut() = text);
 }
