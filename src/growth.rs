@@ -136,9 +136,9 @@ impl CellWords for SlotSink<'_> {
     }
 }
 
-/// Keeps the slots and the per-slot weights in step with the surface.
+/// Keeps the slots (through a [`SlotSink`]) and the per-slot weights in step with the surface.
 struct WeightSink<'a> {
-    cells: &'a mut [u32],
+    slots: SlotSink<'a>,
     tree: &'a mut SumTree,
     lattice: &'a Lattice,
     weight: &'a Weight,
@@ -147,19 +147,18 @@ struct WeightSink<'a> {
 impl SlotListener for WeightSink<'_> {
     #[inline(always)]
     fn slot_of(&self, cell: usize) -> usize {
-        (self.cells[cell] & SLOT_MASK) as usize
+        self.slots.slot_of(cell)
     }
     #[inline]
     fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        set_slot(self.cells, cell_a as usize, a);
-        set_slot(self.cells, cell_b as usize, b);
+        self.slots.swapped(a, cell_a, b, cell_b);
         let (va, vb) = (self.tree.get(b), self.tree.get(a));
         self.tree.set(a, va);
         self.tree.set(b, vb);
     }
     #[inline]
     fn pushed(&mut self, cell: u32, slot: usize) {
-        set_slot(self.cells, cell as usize, slot);
+        self.slots.pushed(cell, slot);
         self.tree.reserve_slot(slot);
         // Checked over the whole lattice when the run was built.
         let v = self.weight.at(self.lattice, cell as usize).unwrap_or(0.0);
@@ -174,11 +173,11 @@ impl SlotListener for WeightSink<'_> {
 impl CellWords for WeightSink<'_> {
     #[inline(always)]
     fn word(&self, cell: usize) -> u32 {
-        self.cells[cell]
+        self.slots.word(cell)
     }
     #[inline(always)]
     fn set_word(&mut self, cell: usize, w: u32) {
-        self.cells[cell] = w;
+        self.slots.set_word(cell, w);
     }
 }
 
@@ -355,7 +354,9 @@ impl Growth {
                 &mut self.surface,
                 cell,
                 &mut WeightSink {
-                    cells: &mut self.cells,
+                    slots: SlotSink {
+                        cells: &mut self.cells,
+                    },
                     tree,
                     lattice: &self.lattice,
                     weight: &self.weight,
@@ -494,6 +495,18 @@ mod tests {
             assert!(g.surface().is_empty());
             g.check_invariants().unwrap();
         }
+    }
+
+    #[test]
+    fn memory_stays_under_64_bytes_per_cell() {
+        // The budget for the flame scene: 64 bytes per cell. One word per cell plus
+        // the surface array.
+        let l = Lattice::new(Neighbourhood::Hex, 256, 256, Boundary::TORUS).unwrap();
+        let mut g =
+            Growth::new(l, Sticking::new(2.0, 6).unwrap(), Weight::Isotropic, false).unwrap();
+        g.occupy_where(|x, y| (x - 128.0).abs() < 40.0 && (y - 110.0).abs() < 40.0);
+        let per_cell = g.memory_bytes() as f64 / (256.0 * 256.0);
+        assert!(per_cell < 5.0, "{per_cell} bytes per cell");
     }
 
     #[test]
