@@ -1,10 +1,245 @@
-//! `cellsurf` subcommand: placeholder, being written.
+//! `cellsurf dunes`: the Werner-model dune article's slab model (ripple mode, dune mode `-d`)
+//! and the Werner (1995) variant (`--variant werner`), with the article's short options.
+//!
+//! The library does the work ([`cellsurf::dunes`]); this file parses options, shows a
+//! progress bar on stderr for runs longer than a second (never with `--json` or `--quiet`),
+//! writes the optional PNG and GIF and prints the summary (or one JSON object).
 
-/// Options.
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use cellsurf::dunes::{
+    BODY_THRESHOLD, DuneConfig, DuneModel, GRAINS_PER_UNIT, MigrationRecorder, Mode, VERSION,
+    WernerParams, describe, draw_result,
+};
+
+/// Which model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Variant {
+    /// The article's code: ripple mode, or dune mode with -d.
+    Article,
+    /// Werner (1995): slabs, 15-degree shadow zone, angle of repose (33 degrees).
+    Werner,
+}
+
+/// Options of `cellsurf dunes`. Short options as in the article's `simulate.py`.
 #[derive(clap::Args)]
-pub struct Args {}
+#[command(
+    after_help = "Examples:\n  cellsurf dunes -d -q 1 --out q1.png      # barchans (dune mode, Q = 1)\n  \
+                  cellsurf dunes -d -q 3 -g 140 --gif q3.gif  # transverse ridges, animated\n  \
+                  cellsurf dunes --variant werner -q 0.5 -i 1000 --json\n  \
+                  cellsurf dunes -w 5 -i 200               # ripple mode (the earlier article)"
+)]
+pub struct Args {
+    /// Grid side N in cells; the grid is N x N and periodic (3 to 4096).
+    #[arg(
+        short = 'g',
+        long = "grid",
+        visible_alias = "grid-size",
+        alias = "grid_size",
+        default_value_t = 100
+    )]
+    grid: usize,
+    /// Iterations: each makes the picks, then applies the rolling rule (0 to 10^9).
+    #[arg(
+        short = 'i',
+        long = "iterations",
+        visible_alias = "num-iter",
+        alias = "num_iter",
+        default_value_t = 500
+    )]
+    iterations: u64,
+    /// Dune mode: int(0.2 N^2) picks among cells with sand, tanh jump and quantity laws,
+    /// D = 0.3 (without -d: ripple mode, N^2 picks, jump int(wind + h), q = 0.1, D = 0.1).
+    #[arg(short = 'd', long = "dune")]
+    dune: bool,
+    /// Sand quantity Q: mean initial height in cell widths, initial h uniform in [0, 2Q]
+    /// (dune mode and werner; 0 to 10^5).
+    #[arg(
+        short = 'q',
+        long = "quantity",
+        default_value_t = 1.0,
+        allow_hyphen_values = true
+    )]
+    quantity: f64,
+    /// Wind speed in cells (ripple mode: jump = int(wind + h); finite, -10^9 to 10^9).
+    #[arg(
+        short = 'w',
+        long = "wind",
+        default_value_t = 3.0,
+        allow_hyphen_values = true
+    )]
+    wind: f64,
+    /// Seed of the random stream (the same seed gives the same output).
+    #[arg(short = 's', long = "seed", default_value_t = 1)]
+    seed: u64,
+    /// Model: article (the article's code) or werner (Werner 1995 on the same slab engine).
+    #[arg(long, value_enum, default_value_t = Variant::Article)]
+    variant: Variant,
+    /// Werner: hop length L of a slab, in cells (1 to 10^6).
+    #[arg(long, default_value_t = 5)]
+    hop: u32,
+    /// Dune-body threshold in cell widths: cells higher than this form dune bodies, the
+    /// others are bare ground (finite, at least 0).
+    #[arg(long, default_value_t = BODY_THRESHOLD, allow_hyphen_values = true)]
+    threshold: f64,
+    /// Write the final heights and dune bodies as a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    out: Option<PathBuf>,
+    /// Write an animated GIF of the migration.
+    #[arg(long, value_name = "FILE.gif")]
+    gif: Option<PathBuf>,
+    /// Frames in the GIF (1 to 2000).
+    #[arg(long, default_value_t = 60)]
+    gif_frames: usize,
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_a: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+/// The run's configuration from the options.
+fn config(a: &Args) -> Result<DuneConfig> {
+    let mode = match (a.variant, a.dune) {
+        (Variant::Werner, _) => Mode::Werner,
+        (Variant::Article, true) => Mode::Dune,
+        (Variant::Article, false) => Mode::Ripple,
+    };
+    let cfg = DuneConfig {
+        mode,
+        grid: a.grid,
+        iterations: a.iterations,
+        quantity: a.quantity,
+        wind: a.wind,
+        seed: a.seed,
+        werner: WernerParams {
+            hop: a.hop,
+            ..WernerParams::default()
+        },
+    };
+    cfg.validate()?;
+    if !(a.threshold.is_finite() && a.threshold >= 0.0) {
+        bail!(
+            "threshold = {} is out of range: expected a finite height of at least 0 cell widths",
+            a.threshold
+        );
+    }
+    if a.gif_frames == 0 || a.gif_frames > 2000 {
+        bail!(
+            "gif-frames = {} is out of range: expected 1 to 2000",
+            a.gif_frames
+        );
+    }
+    Ok(cfg)
+}
+
+/// Runs `cellsurf dunes`.
+pub fn run(a: Args) -> Result<()> {
+    let cfg = config(&a)?;
+    let silent = a.quiet || a.json;
+    let bar =
+        ProgressBar::with_draw_target(Some(cfg.iterations.max(1)), ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("dunes {} {}x{}", cfg.mode, cfg.grid, cfg.grid));
+    let start = Instant::now();
+    let mut m = DuneModel::new(&cfg)?;
+    let mut rec = a.gif.as_ref().map(|_| MigrationRecorder::new(480));
+    let every = (cfg.iterations / a.gif_frames as u64).max(1);
+    if let Some(r) = rec.as_mut() {
+        r.add(&m);
+    }
+    let mut shown = false;
+    while m.iteration() < cfg.iterations {
+        m.step();
+        let t = m.iteration();
+        if let Some(r) = rec.as_mut() {
+            if t % every == 0 || t == cfg.iterations {
+                r.add(&m);
+            }
+        }
+        if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+            shown = true;
+        }
+        bar.set_position(t);
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let s = m.stats_with_threshold(a.threshold);
+    if s.sand_change != 0 || m.grains().len() != cfg.grid * cfg.grid {
+        bail!("internal error: sand changed by {} grains", s.sand_change);
+    }
+    if let (Some(r), Some(p)) = (rec.as_ref(), a.gif.as_ref()) {
+        r.write(p, 480, 8)
+            .with_context(|| format!("writing --gif {}", p.display()))?;
+    }
+    if let Some(p) = &a.out {
+        // The run's parameters go into the PNG (iTXt `parameters`), as for every figure.
+        cellsurf::plot::set_png_parameters(Some(format!(
+            "threshold = {}\n{}",
+            a.threshold,
+            toml::to_string(&cfg).unwrap_or_default()
+        )));
+        draw_result(p, &m).with_context(|| format!("writing --out {}", p.display()))?;
+    }
+    let (picks, moves) = m.picks();
+    let rate = if elapsed > 0.0 {
+        cfg.iterations as f64 / elapsed
+    } else {
+        0.0
+    };
+    if a.json {
+        let v = serde_json::json!({
+            "model": "dunes",
+            "mode": cfg.mode.name(),
+            "variant": match a.variant { Variant::Article => "article", Variant::Werner => "werner" },
+            "iterations": m.iteration(),
+            "elapsed_s": elapsed,
+            "iterations_per_s": rate,
+            "picks": picks,
+            "moves": moves,
+            "dune_bodies": s.dune_bodies,
+            "spanning_bodies": s.spanning_bodies,
+            "bare_fraction": s.bare_fraction,
+            "largest_body_fraction": s.largest_body_fraction,
+            "threshold": s.threshold,
+            "min_height": s.min_height,
+            "max_height": s.max_height,
+            "mean_height": s.mean_height,
+            "total_grains": s.total_grains,
+            "grains_per_unit": GRAINS_PER_UNIT,
+            "sand_change": s.sand_change,
+            "version": VERSION,
+            "parameters": cfg,
+        });
+        println!("{}", serde_json::to_string(&v)?);
+    } else {
+        println!("cellsurf {VERSION} dunes: {}", describe(&cfg));
+        println!(
+            "  iterations {} in {elapsed:.3} s ({rate:.0} iterations/s); picks {picks}, of which {moves} moved sand",
+            m.iteration()
+        );
+        println!(
+            "  dune bodies {} ({} spanning the grid), bare fraction {:.3} (h <= {} cell widths), largest body {:.1}% of the grid",
+            s.dune_bodies,
+            s.spanning_bodies,
+            s.bare_fraction,
+            s.threshold,
+            100.0 * s.largest_body_fraction
+        );
+        println!(
+            "  heights {:.4} .. {:.4}, mean {:.4} cell widths; sand change {} grains (exact)",
+            s.min_height, s.max_height, s.mean_height, s.sand_change
+        );
+    }
+    Ok(())
 }

@@ -1,0 +1,877 @@
+//! Figures of the dune model (feature `plot`): height fields in a continuous colour map,
+//! dune bodies, the migration GIF and the error against run time.
+//!
+//! Heights are drawn with a sand colour ramp (dark bare ground to pale crests) built with
+//! plotters' [`DerivedColorMap`]; a picture is an `N x N` field of colours scaled up
+//! nearest-cell ([`FieldPanel`], [`draw_field`], with a colour bar). Wind blows left to
+//! right; row 0 is at the bottom. The GIF ([`MigrationRecorder`]) quantises heights into 255
+//! levels of the same ramp and uses [`GifWriter`].
+
+use std::path::{Path, PathBuf};
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
+use super::{BODY_THRESHOLD, DuneConfig, DuneModel, Mode, VERSION, above_threshold, bodies};
+use crate::figures::{Figure, FigureError};
+use crate::lattice::Lattice;
+use crate::plot::{
+    self, CellField, Chart, GifWriter, Palette, PlotError, Series, check_picture_size, encode_png,
+    ensure_fonts,
+};
+
+/// The figures of this model, made by `cellsurf figures`.
+pub const FIGURES: &[Figure] = &[
+    Figure {
+        name: "dunes_q1",
+        about: "Dune mode, Q = 1: separate barchan-like dunes (and dunes_migration.gif)",
+        make: q1_figure,
+    },
+    Figure {
+        name: "dunes_q3",
+        about: "Dune mode, Q = 3: connected transverse ridges",
+        make: q3_figure,
+    },
+    Figure {
+        name: "dunes_barchan",
+        about: "Dune mode, one sand pile: it becomes a barchan with its horns downwind",
+        make: barchan_figure,
+    },
+    Figure {
+        name: "dunes_werner",
+        about: "Werner (1995) variant: shadow zone and angle of repose, little and much sand",
+        make: werner_figure,
+    },
+    Figure {
+        name: "dunes_error_vs_time",
+        about: "Dune bodies and bare fraction: seed-to-seed standard error against run time",
+        make: error_figure,
+    },
+];
+
+/// Colours of the height ramp, low to high: dark bare ground to pale sand crests (lightness
+/// increases monotonically).
+const RAMP: [RGBColor; 6] = [
+    RGBColor(24, 24, 44),
+    RGBColor(70, 44, 72),
+    RGBColor(138, 72, 62),
+    RGBColor(200, 124, 64),
+    RGBColor(236, 190, 112),
+    RGBColor(255, 244, 210),
+];
+
+/// Number of height levels in the GIF palette (states `0..HEIGHT_LEVELS`).
+pub const HEIGHT_LEVELS: usize = 255;
+
+/// Colour of a height at fraction `v` (clamped to [0, 1]) of the scale.
+pub fn height_color(v: f64) -> RGBColor {
+    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    DerivedColorMap::new(&RAMP).get_color_normalized(v, 0.0, 1.0)
+}
+
+/// The ramp sampled at `levels` evenly spaced points (at least 2).
+fn ramp_lut(levels: usize) -> Vec<RGBColor> {
+    let levels = levels.max(2);
+    let map = DerivedColorMap::new(&RAMP);
+    (0..levels)
+        .map(|i| map.get_color_normalized(i as f64 / (levels - 1) as f64, 0.0, 1.0))
+        .collect()
+}
+
+/// The GIF palette: [`HEIGHT_LEVELS`] colours of the height ramp, state `s` for the height
+/// `s / (HEIGHT_LEVELS - 1)` of the scale.
+pub fn height_palette() -> Palette {
+    Palette {
+        colors: ramp_lut(HEIGHT_LEVELS),
+    }
+}
+
+/// Heights (height units) quantised to palette states of [`height_palette`], with `max`
+/// height units at the top of the scale.
+pub fn height_states(heights: &[f32], max: f64) -> Vec<u8> {
+    let top = (HEIGHT_LEVELS - 1) as f64;
+    let scale = if max > 0.0 { top / max } else { 0.0 };
+    heights
+        .iter()
+        .map(|&h| (f64::from(h) * scale).round().clamp(0.0, top) as u8)
+        .collect()
+}
+
+/// One picture of [`draw_field`]: an `n x n` field of colours (`rgb[y * n + x]`) with a
+/// title.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldPanel {
+    /// Title drawn above the picture.
+    pub title: String,
+    /// Side of the field, cells.
+    pub n: usize,
+    /// Colour per cell, row 0 first.
+    pub rgb: Vec<RGBColor>,
+}
+
+/// The heights `grains` of an `n x n` grid, coloured with the height ramp, `max` height
+/// units at the top.
+pub fn height_panel(title: &str, grains: &[u64], n: usize, max: f64) -> FieldPanel {
+    let lut = ramp_lut(256);
+    let scale = if max > 0.0 { 255.0 / max } else { 0.0 };
+    FieldPanel {
+        title: title.to_string(),
+        n,
+        rgb: grains
+            .iter()
+            .map(|&g| lut[(super::to_units(g) * scale).round().clamp(0.0, 255.0) as usize])
+            .collect(),
+    }
+}
+
+/// Colours of dune bodies (cycled), and of bare ground.
+const BODY_COLORS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+    RGBColor(90, 90, 90),
+];
+const BARE: RGBColor = RGBColor(236, 232, 224);
+
+/// The dune bodies of `grains` (cells above `threshold` height units, 8-neighbour torus),
+/// one colour per body, bare ground pale grey.
+pub fn bodies_panel(title: &str, grains: &[u64], lattice: &Lattice, threshold: f64) -> FieldPanel {
+    let b = bodies(&above_threshold(grains, threshold), lattice);
+    FieldPanel {
+        title: title.to_string(),
+        n: lattice.width(),
+        rgb: b
+            .labels
+            .iter()
+            .map(|&l| {
+                if l == u32::MAX {
+                    BARE
+                } else {
+                    BODY_COLORS[l as usize % BODY_COLORS.len()]
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Margin and gap between panels, pixels.
+const GAP: u32 = 12;
+/// Width of the colour-bar column, pixels.
+const BAR_W: u32 = 110;
+
+/// Draws `panels` as a grid of `cols` columns, each `panel_px` pixels square, under `title`,
+/// with a colour bar of the height ramp from 0 to `bar_max` height units on the right (none
+/// when `bar_max` is `None`), and writes the PNG atomically.
+///
+/// # Errors
+///
+/// [`PlotError::InvalidInput`] for no panels, `cols` or `panel_px` zero, a panel whose `rgb`
+/// is not `n * n` long, or a picture too large; drawing, encoding and i/o errors.
+pub fn draw_field(
+    path: &Path,
+    title: &str,
+    panels: &[FieldPanel],
+    cols: usize,
+    panel_px: u32,
+    bar_max: Option<f64>,
+) -> Result<(), PlotError> {
+    if panels.is_empty() {
+        return Err(PlotError::InvalidInput {
+            name: "panels".into(),
+            reason: "is empty".into(),
+        });
+    }
+    if cols == 0 || panel_px == 0 {
+        return Err(PlotError::InvalidInput {
+            name: "cols, panel_px".into(),
+            reason: "must be positive".into(),
+        });
+    }
+    for (k, p) in panels.iter().enumerate() {
+        if p.n == 0 || p.rgb.len() != p.n * p.n {
+            return Err(PlotError::InvalidInput {
+                name: format!("panels[{k}].rgb"),
+                reason: format!(
+                    "has {} colours, expected n * n with n = {}",
+                    p.rgb.len(),
+                    p.n
+                ),
+            });
+        }
+    }
+    let cols = cols.min(panels.len());
+    let rows = panels.len().div_ceil(cols);
+    let font = (f64::from(panel_px) / 20.0).clamp(13.0, 22.0);
+    let title_font = font * 1.15;
+    let lines: Vec<&str> = title.lines().collect();
+    let title_h = (title_font * (0.6 + 1.4 * lines.len().max(1) as f64)).round() as u32;
+    let ptitle_h = (font * 1.8).round() as u32;
+    let bar_w = if bar_max.is_some() { BAR_W } else { 0 };
+    let width = u64::from(GAP) + cols as u64 * u64::from(panel_px + GAP) + u64::from(bar_w);
+    // Room under the colour bar for its label, when the panels alone are not taller.
+    let label_h = if bar_max.is_some() && rows == 1 {
+        (font * 2.6).round() as u32
+    } else {
+        0
+    };
+    let height = u64::from(title_h)
+        + rows as u64 * u64::from(ptitle_h + panel_px + GAP)
+        + u64::from(label_h);
+    check_picture_size("panel_px", width, height)?;
+    let (width, height) = (width as u32, height as u32);
+    ensure_fonts();
+    let mut buf = vec![255u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(PlotError::drawing)?;
+        let centre = Pos::new(HPos::Center, VPos::Center);
+        for (k, line) in lines.iter().enumerate() {
+            let y = title_font * (1.0 + 1.4 * k as f64);
+            let weight = if k == 0 {
+                FontStyle::Bold
+            } else {
+                FontStyle::Normal
+            };
+            root.draw(&Text::new(
+                line.to_string(),
+                ((width / 2) as i32, y.round() as i32),
+                ("sans-serif", title_font, weight)
+                    .into_font()
+                    .color(&BLACK)
+                    .pos(centre),
+            ))
+            .map_err(PlotError::drawing)?;
+        }
+        let pstyle = ("sans-serif", font).into_font().color(&BLACK).pos(centre);
+        for (k, p) in panels.iter().enumerate() {
+            let (r, c) = ((k / cols) as u32, (k % cols) as u32);
+            let x0 = GAP + c * (panel_px + GAP);
+            let y0 = title_h + r * (ptitle_h + panel_px + GAP);
+            root.draw(&Text::new(
+                p.title.clone(),
+                ((x0 + panel_px / 2) as i32, (y0 + ptitle_h / 2) as i32),
+                pstyle.clone(),
+            ))
+            .map_err(PlotError::drawing)?;
+            let by = y0 + ptitle_h;
+            let px = panel_px as usize;
+            let mut pixels = Vec::with_capacity(px * px * 3);
+            for j in 0..px {
+                // Row 0 of the picture is the top: the highest y.
+                let y = p.n - 1 - (j * p.n / px).min(p.n - 1);
+                for i in 0..px {
+                    let x = (i * p.n / px).min(p.n - 1);
+                    let RGBColor(r, g, b) = p.rgb[y * p.n + x];
+                    pixels.extend_from_slice(&[r, g, b]);
+                }
+            }
+            let bitmap = BitMapElement::with_owned_buffer(
+                (x0 as i32, by as i32),
+                (panel_px, panel_px),
+                pixels,
+            )
+            .ok_or_else(|| PlotError::Drawing("panel bitmap size mismatch".into()))?;
+            root.draw(&bitmap).map_err(PlotError::drawing)?;
+            root.draw(&Rectangle::new(
+                [
+                    (x0 as i32 - 1, by as i32 - 1),
+                    ((x0 + panel_px) as i32, (by + panel_px) as i32),
+                ],
+                RGBColor(150, 150, 150).stroke_width(1),
+            ))
+            .map_err(PlotError::drawing)?;
+        }
+        if let Some(max) = bar_max {
+            draw_colour_bar(
+                &root,
+                width - bar_w,
+                title_h + ptitle_h,
+                panel_px,
+                max,
+                font,
+            )?;
+        }
+        root.present().map_err(PlotError::drawing)?;
+    }
+    let png = encode_png(&buf, width, height)?;
+    crate::io::write_atomic(path, &png)?;
+    Ok(())
+}
+
+/// A vertical colour bar of the height ramp from 0 (bottom) to `max` (top), `h` pixels tall,
+/// with ticks and the label "height (cell widths)".
+fn draw_colour_bar<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    x0: u32,
+    y0: u32,
+    h: u32,
+    max: f64,
+    font: f64,
+) -> Result<(), PlotError> {
+    let bw = 18u32;
+    let lut = ramp_lut(256);
+    let mut pixels = Vec::with_capacity((bw * h * 3) as usize);
+    for j in 0..h {
+        let v = 1.0 - f64::from(j) / f64::from(h.max(2) - 1);
+        let RGBColor(r, g, b) = lut[(v * 255.0).round() as usize];
+        for _ in 0..bw {
+            pixels.extend_from_slice(&[r, g, b]);
+        }
+    }
+    let bar = BitMapElement::with_owned_buffer((x0 as i32, y0 as i32), (bw, h), pixels)
+        .ok_or_else(|| PlotError::Drawing("colour bar size mismatch".into()))?;
+    root.draw(&bar).map_err(PlotError::drawing)?;
+    let style = ("sans-serif", font * 0.9)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    for k in 0..=4 {
+        let v = max * f64::from(k) / 4.0;
+        let y = y0 as i32 + ((1.0 - f64::from(k) / 4.0) * f64::from(h - 1)).round() as i32;
+        root.draw(&PathElement::new(
+            vec![((x0 + bw) as i32, y), ((x0 + bw + 5) as i32, y)],
+            BLACK,
+        ))
+        .map_err(PlotError::drawing)?;
+        root.draw(&Text::new(
+            format!("{v:.1}"),
+            ((x0 + bw + 8) as i32, y),
+            style.clone(),
+        ))
+        .map_err(PlotError::drawing)?;
+    }
+    let line = (font * 1.1).round() as u32;
+    root.draw(&Text::new(
+        "height".to_string(),
+        (x0 as i32, (y0 + h + line) as i32),
+        style.clone(),
+    ))
+    .map_err(PlotError::drawing)?;
+    root.draw(&Text::new(
+        "(cell widths)".to_string(),
+        (x0 as i32, (y0 + h + 2 * line) as i32),
+        style,
+    ))
+    .map_err(PlotError::drawing)?;
+    Ok(())
+}
+
+/// Collects frames of a run for an animated GIF: heights sampled on at most `side x side`
+/// cells (point sampling of larger grids), kept as `f32` so that the colour scale can be
+/// fixed from the whole run when the GIF is written.
+#[derive(Clone, Debug)]
+pub struct MigrationRecorder {
+    side: usize,
+    frames: Vec<Vec<f32>>,
+}
+
+impl MigrationRecorder {
+    /// A recorder for pictures of at most `side` cells a side (at least 1).
+    pub fn new(side: usize) -> Self {
+        MigrationRecorder {
+            side: side.max(1),
+            frames: Vec::new(),
+        }
+    }
+
+    /// Number of frames so far.
+    pub fn frames(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// Adds the model's heights as the next frame.
+    pub fn add(&mut self, m: &DuneModel) {
+        let n = m.grid();
+        let side = self.side.min(n);
+        self.side = side;
+        let g = m.grains();
+        let mut f = Vec::with_capacity(side * side);
+        for j in 0..side {
+            let y = j * n / side;
+            for i in 0..side {
+                f.push(super::to_units(g[y * n + i * n / side]) as f32);
+            }
+        }
+        self.frames.push(f);
+    }
+
+    /// Writes the GIF (`max_px` pixels a side, `delay_cs` hundredths of a second per frame),
+    /// colour scale from 0 to the highest height of any frame.
+    ///
+    /// # Errors
+    ///
+    /// [`PlotError`] when there is no frame, or on an encoding or i/o failure.
+    pub fn write(&self, path: &Path, max_px: u32, delay_cs: u16) -> Result<(), PlotError> {
+        let max = self
+            .frames
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, &v| m.max(f64::from(v)));
+        let side = self.side;
+        let mut gif =
+            GifWriter::create(path, side, side, false, max_px, &height_palette(), delay_cs)?;
+        for f in &self.frames {
+            gif.add_frame(&CellField {
+                nx: side,
+                ny: side,
+                hex: false,
+                states: height_states(f, max),
+            })?;
+        }
+        gif.finish()
+    }
+}
+
+/// A short description of a configuration for titles.
+pub fn describe(cfg: &DuneConfig) -> String {
+    match cfg.mode {
+        Mode::Ripple => format!(
+            "ripple mode, wind {}, grid {}, seed {}",
+            cfg.wind, cfg.grid, cfg.seed
+        ),
+        Mode::Dune => format!(
+            "dune mode, Q = {}, grid {}, seed {}",
+            cfg.quantity, cfg.grid, cfg.seed
+        ),
+        Mode::Werner => format!(
+            "Werner, Q = {}, L = {}, grid {}, seed {}",
+            cfg.quantity, cfg.werner.hop, cfg.grid, cfg.seed
+        ),
+    }
+}
+
+/// The final heights and the dune bodies of a model, as two panels with a colour bar:
+/// the picture `cellsurf dunes --out` writes.
+pub fn draw_result(path: &Path, m: &DuneModel) -> Result<(), PlotError> {
+    let s = m.stats();
+    let max = s.max_height.max(1e-6);
+    let n = m.grid();
+    let panels = [
+        height_panel(&format!("heights, t = {}", s.iteration), m.grains(), n, max),
+        bodies_panel(
+            &format!(
+                "{} bodies ({} spanning), bare {:.0}%",
+                s.dune_bodies,
+                s.spanning_bodies,
+                100.0 * s.bare_fraction
+            ),
+            m.grains(),
+            m.lattice(),
+            s.threshold,
+        ),
+    ];
+    draw_field(
+        path,
+        &format!("{}  (wind →, cellsurf {VERSION})", describe(m.config())),
+        &panels,
+        2,
+        420,
+        Some(max),
+    )
+}
+
+/// Records `cfg` (as TOML, under the figure's name) in the PNGs this thread writes next.
+fn record_parameters(figure: &str, cfgs: &[&DuneConfig]) {
+    let mut text = format!("figure = \"{figure}\"\n");
+    for c in cfgs {
+        text.push_str("\n[[run]]\n");
+        text.push_str(
+            &toml::to_string(c)
+                .unwrap_or_default()
+                .replace("[werner]", "[run.werner]"),
+        );
+    }
+    plot::set_png_parameters(Some(text));
+}
+
+/// Grains kept at some iterations: `(iteration, grains)`.
+type Snapshots = Vec<(u64, Vec<u64>)>;
+
+/// Runs `cfg`, keeping the grains at the iterations in `at`, and feeding every
+/// `frame_every`-th iteration (if any) to `rec`. Returns the kept fields and the model.
+fn run_with_snapshots(
+    cfg: &DuneConfig,
+    at: &[u64],
+    rec: Option<(&mut MigrationRecorder, u64)>,
+) -> Result<(Snapshots, DuneModel), FigureError> {
+    let m = DuneModel::new(cfg).map_err(|e| FigureError::Model(e.to_string()))?;
+    run_model_with_snapshots(m, at, rec)
+}
+
+/// [`run_with_snapshots`] from a model already built.
+fn run_model_with_snapshots(
+    mut m: DuneModel,
+    at: &[u64],
+    mut rec: Option<(&mut MigrationRecorder, u64)>,
+) -> Result<(Snapshots, DuneModel), FigureError> {
+    let cfg = m.config().clone();
+    let mut kept = Vec::new();
+    loop {
+        let t = m.iteration();
+        if at.contains(&t) {
+            kept.push((t, m.grains().to_vec()));
+        }
+        if let Some((r, every)) = rec.as_mut() {
+            if t % *every == 0 || t == cfg.iterations {
+                r.add(&m);
+            }
+        }
+        if t >= cfg.iterations {
+            break;
+        }
+        m.step();
+    }
+    Ok((kept, m))
+}
+
+/// Iterations between frames of `dunes_migration.gif` (51 frames over 500 iterations).
+const GIF_EVERY: u64 = 10;
+/// Side of `dunes_migration.gif`, pixels.
+const GIF_PX: u32 = 360;
+
+/// The article's dune mode at the defaults (grid 100, 500 iterations, seed 1) with sand
+/// quantity `q`: heights at t = 0, 100, 500 and the dune bodies at 500.
+fn dune_mode_figure(
+    dir: &Path,
+    name: &str,
+    q: f64,
+    claim: &str,
+    gif: Option<&str>,
+) -> Result<Vec<PathBuf>, FigureError> {
+    let cfg = DuneConfig {
+        mode: Mode::Dune,
+        quantity: q,
+        ..DuneConfig::default()
+    };
+    record_parameters(name, &[&cfg]);
+    let at = [0, 100, cfg.iterations];
+    let mut rec = MigrationRecorder::new(cfg.grid);
+    let (kept, m) = run_with_snapshots(&cfg, &at, gif.map(|_| (&mut rec, GIF_EVERY)))?;
+    let s = m.stats();
+    let max = kept
+        .iter()
+        .flat_map(|(_, g)| g.iter())
+        .copied()
+        .max()
+        .map_or(1.0, super::to_units);
+    let n = cfg.grid;
+    let mut panels: Vec<FieldPanel> = kept
+        .iter()
+        .map(|(t, g)| height_panel(&format!("heights, t = {t}"), g, n, max))
+        .collect();
+    panels.push(bodies_panel(
+        &format!(
+            "t = {}: {} bodies ({} spanning), bare {:.0}%",
+            s.iteration,
+            s.dune_bodies,
+            s.spanning_bodies,
+            100.0 * s.bare_fraction
+        ),
+        m.grains(),
+        m.lattice(),
+        BODY_THRESHOLD,
+    ));
+    let path = dir.join(format!("{name}.png"));
+    draw_field(
+        &path,
+        &format!("{claim}: {}  (wind →, cellsurf {VERSION})", describe(&cfg)),
+        &panels,
+        4,
+        300,
+        Some(max),
+    )?;
+    let mut out = vec![path];
+    if let Some(g) = gif {
+        let p = dir.join(g);
+        rec.write(&p, GIF_PX, 8)?;
+        out.push(p);
+    }
+    Ok(out)
+}
+
+fn q1_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    dune_mode_figure(
+        dir,
+        "dunes_q1",
+        1.0,
+        "Q = 1, separate barchan-like dunes",
+        Some("dunes_migration.gif"),
+    )
+}
+
+fn q3_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    dune_mode_figure(
+        dir,
+        "dunes_q3",
+        3.0,
+        "Q = 3, connected transverse ridges",
+        None,
+    )
+}
+
+/// A round pile of sand, `amp` height units high at its centre `(cx, cy)` and of radius
+/// `r` cells (a Gaussian, `amp exp(-d^2 / r^2)`), on bare ground: grains of an `n x n` grid.
+pub fn gaussian_pile(n: usize, cx: f64, cy: f64, amp: f64, r: f64) -> Vec<u64> {
+    (0..n * n)
+        .map(|c| {
+            let (dx, dy) = ((c % n) as f64 - cx, (c / n) as f64 - cy);
+            super::to_grains(amp * (-(dx * dx + dy * dy) / (r * r)).exp())
+        })
+        .collect()
+}
+
+/// Dune mode from one round pile (6 cell widths high, radius 12) on the default grid: a
+/// barchan forms, its horns pointing downwind.
+fn barchan_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let cfg = DuneConfig {
+        mode: Mode::Dune,
+        ..DuneConfig::default()
+    };
+    record_parameters("dunes_barchan", &[&cfg]);
+    let n = cfg.grid;
+    let pile = gaussian_pile(n, n as f64 / 3.0, n as f64 / 2.0, 6.0, 12.0);
+    let m = DuneModel::from_grains(&cfg, pile).map_err(|e| FigureError::Model(e.to_string()))?;
+    let (kept, m) = run_model_with_snapshots(m, &[0, 50, 200, cfg.iterations], None)?;
+    let max = kept
+        .iter()
+        .flat_map(|(_, g)| g.iter())
+        .copied()
+        .max()
+        .map_or(1.0, super::to_units);
+    let mut panels: Vec<FieldPanel> = kept
+        .iter()
+        .map(|(t, g)| height_panel(&format!("heights, t = {t}"), g, n, max))
+        .collect();
+    let s = m.stats();
+    panels.push(bodies_panel(
+        &format!(
+            "t = {}: {} bodies, bare {:.0}%",
+            s.iteration,
+            s.dune_bodies,
+            100.0 * s.bare_fraction
+        ),
+        m.grains(),
+        m.lattice(),
+        BODY_THRESHOLD,
+    ));
+    let path = dir.join("dunes_barchan.png");
+    draw_field(
+        &path,
+        &format!(
+            "One pile becomes a barchan, horns downwind: dune mode, grid {n}, seed {} (wind →, cellsurf {VERSION})",
+            cfg.seed
+        ),
+        &panels,
+        5,
+        240,
+        Some(max),
+    )?;
+    Ok(vec![path])
+}
+
+/// Iterations of the Werner figure.
+const WERNER_ITERATIONS: u64 = 1000;
+
+/// The Werner variant with little sand (Q = 0.5) and much sand (Q = 3): heights and dune
+/// bodies after 1000 iterations on the default grid.
+fn werner_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let cfg = |q: f64| DuneConfig {
+        mode: Mode::Werner,
+        quantity: q,
+        iterations: WERNER_ITERATIONS,
+        ..DuneConfig::default()
+    };
+    let (little, much) = (cfg(0.5), cfg(3.0));
+    record_parameters("dunes_werner", &[&little, &much]);
+    // The two runs are independent: one per core.
+    let (a, b) = rayon::join(
+        || run_with_snapshots(&little, &[], None),
+        || run_with_snapshots(&much, &[], None),
+    );
+    let runs = [(0.5, a?.1), (3.0, b?.1)];
+    let max = runs
+        .iter()
+        .map(|(_, m)| m.stats().max_height)
+        .fold(0.0f64, f64::max);
+    let mut panels = Vec::new();
+    for (q, m) in &runs {
+        let s = m.stats();
+        panels.push(height_panel(
+            &format!("Q = {q}: heights, t = {}", s.iteration),
+            m.grains(),
+            m.grid(),
+            max,
+        ));
+        panels.push(bodies_panel(
+            &format!(
+                "Q = {q}: {} bodies ({} spanning), bare {:.0}%",
+                s.dune_bodies,
+                s.spanning_bodies,
+                100.0 * s.bare_fraction
+            ),
+            m.grains(),
+            m.lattice(),
+            BODY_THRESHOLD,
+        ));
+    }
+    let w = crate::dunes::WernerParams::default();
+    let path = dir.join("dunes_werner.png");
+    draw_field(
+        &path,
+        &format!(
+            "Werner (1995) variant: little sand (Q = 0.5) and much sand (Q = 3)\n\
+             L = {}, p_sand {}, p_bare {}, shadow {}°, repose {}°, slab {}\n\
+             grid 100, seed 1 (wind →, cellsurf {VERSION})",
+            w.hop, w.p_sand, w.p_bare, w.shadow_deg, w.repose_deg, w.slab
+        ),
+        &panels,
+        2,
+        330,
+        Some(max),
+    )?;
+    Ok(vec![path])
+}
+
+/// Seeds per sand quantity in the error-against-time figure.
+pub const ERROR_SEEDS: usize = 12;
+/// Iterations between recorded observables in the error-against-time figure.
+const ERROR_EVERY: u64 = 25;
+
+/// The error-against-time study behind `dunes_error_vs_time.png`: dune mode at the
+/// defaults, `seeds` seeds for each of Q = 1 and Q = 3. Returns the runs per Q.
+pub fn error_study(seeds: usize) -> Result<Vec<(f64, Vec<SeedRun>)>, FigureError> {
+    [1.0, 3.0]
+        .into_iter()
+        .map(|q| {
+            let cfg = DuneConfig {
+                mode: Mode::Dune,
+                quantity: q,
+                ..DuneConfig::default()
+            };
+            let first = if q == 1.0 { 1000 } else { 3000 };
+            study::run_seeds(&cfg, first, seeds, ERROR_EVERY)
+                .map(|r| (q, r))
+                .map_err(|e| FigureError::Model(e.to_string()))
+        })
+        .collect()
+}
+
+fn curve_series(c: &ErrorCurve) -> Series {
+    Series {
+        label: c.label.clone(),
+        x: c.points.iter().map(|p| p.cpu_s).collect(),
+        y: c.points.iter().map(|p| p.std_error).collect(),
+        points: true,
+    }
+}
+
+/// A reference line `y = y0 (x / x0)^-1/2` over the range of `c`'s points.
+fn inverse_sqrt(c: &ErrorCurve) -> Series {
+    let (Some(a), Some(b)) = (c.points.first(), c.points.last()) else {
+        return Series::default();
+    };
+    Series {
+        label: "∝ (run time)^-1/2".into(),
+        x: vec![a.cpu_s, b.cpu_s],
+        y: vec![a.std_error, a.std_error * (a.cpu_s / b.cpu_s).sqrt()],
+        points: false,
+    }
+}
+
+/// The mean over seeds of an observable against iterations.
+fn evolution_series(
+    q: f64,
+    ev: &[EvolutionPoint],
+    get: fn(&EvolutionPoint) -> (f64, f64),
+) -> Series {
+    Series {
+        label: format!("Q = {q}, mean of {ERROR_SEEDS} seeds"),
+        x: ev.iter().map(|p| p.iteration as f64).collect(),
+        y: ev.iter().map(|p| get(p).0).collect(),
+        points: true,
+    }
+}
+
+fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let base = DuneConfig {
+        mode: Mode::Dune,
+        ..DuneConfig::default()
+    };
+    plot::set_png_parameters(Some(format!(
+        "figure = \"dunes_error_vs_time\"\nseeds = {ERROR_SEEDS}\nquantities = [1.0, 3.0]\n\n[run]\n{}",
+        toml::to_string(&base)
+            .unwrap_or_default()
+            .replace("[werner]", "[run.werner]")
+    )));
+    let study = error_study(ERROR_SEEDS)?;
+    let mut se_bare = Vec::new();
+    let mut se_bodies = Vec::new();
+    let mut ev_bare = Vec::new();
+    let mut ev_bodies = Vec::new();
+    for (q, runs) in &study {
+        let label = format!("Q = {q}");
+        let cb = study::error_curve(&label, "bare_fraction", runs, |s| s.bare_fraction);
+        let cn = study::error_curve(&label, "dune_bodies", runs, |s| s.dune_bodies as f64);
+        se_bare.push(curve_series(&cb));
+        se_bodies.push(curve_series(&cn));
+        if *q == 1.0 {
+            se_bare.push(inverse_sqrt(&cb));
+            se_bodies.push(inverse_sqrt(&cn));
+        }
+        let ev = study::evolution(runs);
+        ev_bare.push(evolution_series(*q, &ev, |p| p.bare));
+        ev_bodies.push(evolution_series(*q, &ev, |p| p.bodies));
+    }
+    let charts = [
+        Chart {
+            title: "bare fraction: standard error of the mean".into(),
+            x_label: "cumulative run time, s (one core)".into(),
+            y_label: "standard error".into(),
+            series: se_bare,
+            log_x: true,
+            log_y: true,
+        },
+        Chart {
+            title: "dune bodies: standard error of the mean".into(),
+            x_label: "cumulative run time, s (one core)".into(),
+            y_label: "standard error".into(),
+            series: se_bodies,
+            log_x: true,
+            log_y: true,
+        },
+        Chart {
+            title: "bare fraction against iterations".into(),
+            x_label: "iteration".into(),
+            y_label: "bare fraction (h <= 1)".into(),
+            series: ev_bare,
+            log_x: false,
+            log_y: false,
+        },
+        Chart {
+            title: "dune bodies against iterations".into(),
+            x_label: "iteration".into(),
+            y_label: "bodies (h > 1, 8-neighbour torus)".into(),
+            series: ev_bodies,
+            log_x: false,
+            log_y: false,
+        },
+    ];
+    let path = dir.join("dunes_error_vs_time.png");
+    plot::line_charts(
+        &path,
+        &format!(
+            "Dune mode, grid 100, 500 iterations: 2..{ERROR_SEEDS} seeds per point (cellsurf {VERSION})"
+        ),
+        &charts,
+        2,
+        (640, 440),
+    )?;
+    Ok(vec![path])
+}

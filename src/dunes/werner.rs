@@ -1,0 +1,283 @@
+//! The Werner (1995) rules on the slab engine: erosion outside shadow zones, hops of `L`
+//! cells with deposition probabilities, the 15-degree shadow zone and avalanching at the
+//! angle of repose.
+
+use rand::RngExt;
+
+use super::engine::{DuneModel, PickEvent};
+use super::{GRAINS_PER_UNIT, WernerParams, to_grains};
+
+/// The Werner rules' constants, in grains.
+#[derive(Clone, Debug)]
+pub(super) struct WernerState {
+    /// Grains per slab.
+    pub(super) slab: u64,
+    /// Hop length, cells.
+    pub(super) hop: u32,
+    pub(super) p_sand: f64,
+    pub(super) p_bare: f64,
+    /// `shadow_drop[k]`: how far (grains) the 15-degree line from an upwind cell falls over
+    /// `k` cells, `floor(k tan(15 deg) G)`, for `k < N`.
+    pub(super) shadow_drop: Vec<u64>,
+    /// Largest stable height difference to an edge / a diagonal neighbour, grains:
+    /// `floor(tan(repose) G)` and `floor(tan(repose) sqrt(2) G)`.
+    pub(super) repose_edge: u64,
+    pub(super) repose_diag: u64,
+    /// Per row, an upper bound of its heights (grains): recomputed each iteration, raised by
+    /// deposits (the shadow test scans upwind only while a higher cell could still cast a
+    /// shadow).
+    pub(super) row_max: Vec<u64>,
+}
+
+impl WernerState {
+    pub(super) fn new(p: &WernerParams, n: usize) -> Self {
+        let g = GRAINS_PER_UNIT as f64;
+        let ts = p.shadow_deg.to_radians().tan();
+        let tr = p.repose_deg.to_radians().tan();
+        WernerState {
+            slab: to_grains(p.slab).max(1),
+            hop: p.hop,
+            p_sand: p.p_sand,
+            p_bare: p.p_bare,
+            shadow_drop: (0..n).map(|k| (k as f64 * ts * g).floor() as u64).collect(),
+            repose_edge: (tr * g).floor() as u64,
+            repose_diag: (tr * std::f64::consts::SQRT_2 * g).floor() as u64,
+            row_max: vec![0; n],
+        }
+    }
+}
+
+impl DuneModel {
+    fn werner(&self) -> &WernerState {
+        self.werner
+            .as_ref()
+            .expect("Werner state exists in Werner mode")
+    }
+
+    /// Recomputes the row bounds used by the shadow test.
+    pub(super) fn refresh_row_max(&mut self) {
+        let n = self.n;
+        if let Some(w) = self.werner.as_mut() {
+            for (m, row) in w.row_max.iter_mut().zip(self.h.chunks_exact(n)) {
+                *m = row.iter().copied().max().unwrap_or(0);
+            }
+        }
+    }
+
+    /// Keeps the row bound of cell `c`'s row at or above its height.
+    #[inline]
+    fn raise_row_max(&mut self, c: usize) {
+        let r = (c as u32 / self.n as u32) as usize;
+        let hc = self.h[c];
+        if let Some(w) = self.werner.as_mut() {
+            if w.row_max[r] < hc {
+                w.row_max[r] = hc;
+            }
+        }
+    }
+
+    /// True when cell `c` lies in the shadow zone of an upwind cell: some cell `k` cells
+    /// upwind (same row, `0 < k < N`) is higher by more than `k tan(15 deg)` cell widths.
+    /// Always false outside Werner mode.
+    pub fn in_shadow(&self, c: usize) -> bool {
+        let (x, row) = self.split(c);
+        self.in_shadow_at(x, row)
+    }
+
+    /// [`DuneModel::in_shadow`] of the cell in column `x` of the row starting at `row`.
+    #[inline]
+    fn in_shadow_at(&self, x: usize, row: usize) -> bool {
+        let Some(w) = self.werner.as_ref() else {
+            return false;
+        };
+        let n = self.n;
+        let hc = self.h[row + x];
+        let room = w.row_max[row / n].max(hc) - hc;
+        for k in 1..n {
+            let drop = w.shadow_drop[k];
+            if drop >= room {
+                return false;
+            }
+            let ux = if x >= k { x - k } else { x + n - k };
+            if self.h[row + ux] > hc + drop {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Werner's pick: a uniform cell that holds a slab and is not in a shadow zone loses one
+    /// slab (avalanches fill the hole); the slab hops `L` cells downwind until it is
+    /// deposited (always in a shadow zone, else with probability `p_sand` on sand and
+    /// `p_bare` on a bare cell), then avalanches down the steepest slope while it exceeds the
+    /// angle of repose.
+    pub(super) fn pick_werner(&mut self) -> PickEvent {
+        let cells = (self.n * self.n) as u32;
+        let c = self.rng.random_range(0..cells) as usize;
+        let (slab, hop, ps, pb) = {
+            let w = self.werner();
+            (w.slab, i64::from(w.hop), w.p_sand, w.p_bare)
+        };
+        let (x0, row) = self.split(c);
+        let still = PickEvent {
+            from: c,
+            to: c,
+            jump: 0,
+            grains: 0,
+        };
+        if self.h[c] < slab || self.in_shadow_at(x0, row) {
+            return still;
+        }
+        self.h[c] -= slab;
+        self.avalanche_into(c);
+        let step = self.downwind_x(0, hop);
+        let mut x = x0;
+        let mut dist = 0i64;
+        loop {
+            x += step;
+            if x >= self.n {
+                x -= self.n;
+            }
+            dist = dist.saturating_add(hop);
+            if self.in_shadow_at(x, row) {
+                break;
+            }
+            let p = if self.h[row + x] > 0 { ps } else { pb };
+            if self.rng.random::<f64>() < p {
+                break;
+            }
+        }
+        let to = row + x;
+        self.h[to] += slab;
+        self.raise_row_max(to);
+        self.avalanche_down(to);
+        PickEvent {
+            from: c,
+            to,
+            jump: dist,
+            grains: slab,
+        }
+    }
+
+    /// After a deposit on `c`: while some neighbour lies lower than the angle of repose
+    /// allows, one slab slides to the one with the largest excess, and the check goes on
+    /// from there.
+    fn avalanche_down(&mut self, c: usize) {
+        let (slab, le, ld) = {
+            let w = self.werner();
+            (w.slab, w.repose_edge, w.repose_diag)
+        };
+        let (mut x, mut row) = self.split(c);
+        loop {
+            let c = row + x;
+            let hc = self.h[c];
+            let mut best = None;
+            let mut best_excess = 0u64;
+            for (k, &(nb, nx, nrow)) in self.moore(x, row).iter().enumerate() {
+                let lim = if k % 2 == 0 { le } else { ld };
+                let hn = self.h[nb];
+                if hc > hn + lim && hc - hn - lim > best_excess {
+                    best_excess = hc - hn - lim;
+                    best = Some((nb, nx, nrow));
+                }
+            }
+            let Some((nb, nx, nrow)) = best else {
+                return;
+            };
+            self.h[c] -= slab;
+            self.h[nb] += slab;
+            self.raise_row_max(nb);
+            (x, row) = (nx, nrow);
+        }
+    }
+
+    /// After an erosion at `c`: while some neighbour stands higher than the angle of repose
+    /// allows, one slab slides from the one with the largest excess into the hole, and the
+    /// check goes on from that neighbour.
+    fn avalanche_into(&mut self, c: usize) {
+        let (slab, le, ld) = {
+            let w = self.werner();
+            (w.slab, w.repose_edge, w.repose_diag)
+        };
+        let (mut x, mut row) = self.split(c);
+        loop {
+            let c = row + x;
+            let hc = self.h[c];
+            let mut best = None;
+            let mut best_excess = 0u64;
+            for (k, &(nb, nx, nrow)) in self.moore(x, row).iter().enumerate() {
+                let lim = if k % 2 == 0 { le } else { ld };
+                let hn = self.h[nb];
+                if hn > hc + lim && hn - hc - lim > best_excess {
+                    best_excess = hn - hc - lim;
+                    best = Some((nb, nx, nrow));
+                }
+            }
+            let Some((nb, nx, nrow)) = best else {
+                return;
+            };
+            self.h[nb] -= slab;
+            self.h[c] += slab;
+            self.raise_row_max(c);
+            (x, row) = (nx, nrow);
+        }
+    }
+
+    /// Relaxes the whole grid to the angle of repose: sweeps over every neighbour pair,
+    /// moving whole slabs (about half the excess at once) from the higher to the lower cell,
+    /// until no pair is steeper than the angle of repose. Each move lowers the sum of squared
+    /// heights, so the sweeps end.
+    pub(super) fn relax_all(&mut self) {
+        let (slab, le, ld) = {
+            let w = self.werner();
+            (w.slab, w.repose_edge, w.repose_diag)
+        };
+        let cells = self.n * self.n;
+        loop {
+            let mut moved = false;
+            for c in 0..cells {
+                let list = self.lattice.neighbour_list(c);
+                // Offsets (1,0), (1,1), (0,1), (-1,1): each unordered pair once.
+                for (k, &nb) in list.as_slice().iter().enumerate().take(4) {
+                    let nb = nb as usize;
+                    let lim = if k % 2 == 0 { le } else { ld };
+                    let (hi, lo) = if self.h[c] >= self.h[nb] {
+                        (c, nb)
+                    } else {
+                        (nb, c)
+                    };
+                    let diff = self.h[hi] - self.h[lo];
+                    if diff > lim {
+                        let m = (diff - lim).div_ceil(2 * slab) * slab;
+                        self.h[hi] -= m;
+                        self.h[lo] += m;
+                        moved = true;
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        self.refresh_row_max();
+    }
+
+    /// True when every neighbour pair is within the angle of repose (Werner mode; always
+    /// true in the other modes).
+    pub fn within_repose(&self) -> bool {
+        let Some(w) = self.werner.as_ref() else {
+            return true;
+        };
+        (0..self.n * self.n).all(|c| {
+            let list = self.lattice.neighbour_list(c);
+            list.as_slice().iter().enumerate().all(|(k, &nb)| {
+                let lim = if k % 2 == 0 {
+                    w.repose_edge
+                } else {
+                    w.repose_diag
+                };
+                self.h[c].abs_diff(self.h[nb as usize]) <= lim
+            })
+        })
+    }
+}
