@@ -5,7 +5,10 @@ use std::time::Instant;
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: f64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(2.0);
-    let ev: u64 = args.next().and_then(|s| s.parse().ok()).unwrap_or(2_000_000);
+    let ev: u64 = args
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2_000_000);
     let l = Lattice::new(Neighbourhood::Hex, 2048, 2048, Boundary::TORUS).unwrap();
     let mut g = Growth::new(l, Sticking::new(n, 6).unwrap(), Weight::Isotropic, false).unwrap();
     let (pw, ph) = g.lattice().physical_size();
@@ -18,5 +21,9 @@ fn main() {
         }
     }
     let dt = t.elapsed().as_secs_f64();
-    println!("n={n} events={} {:.2} M/s", g.accepted(), g.accepted() as f64 / dt / 1e6);
+    println!(
+        "n={n} events={} {:.2} M/s",
+        g.accepted(),
+        g.accepted() as f64 / dt / 1e6
+    );
 }

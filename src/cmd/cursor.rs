@@ -1,10 +1,520 @@
-//! `cellsurf` subcommand: placeholder, being written.
+//! `cellsurf cursor`: the wind-field cursor walk of "A model for sedimentation of airborne
+//! particles" (article 004, READING.md section 004).
+//!
+//! The library does the work ([`cellsurf::cursor`]); this file parses the options, builds the
+//! wind field (a PNG image or a built-in generator), runs the walk in chunks with a progress
+//! bar on stderr for runs longer than a second (never with `--json` or `--quiet`), writes the
+//! optional pictures and prints a summary (or one JSON object).
 
-/// Options.
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use cellsurf::cursor::stats::{self, NoiseModel};
+use cellsurf::cursor::wind::check_size;
+use cellsurf::cursor::{
+    ARTICLE_STEPS, CursorWalk, DEFAULT_K, DEFAULT_SIZE, SeaLevel, Transitions, WindField, WindSpec,
+    display, draw_landscape,
+};
+use cellsurf::io::write_atomic;
+use cellsurf::scene::VERSION;
+
+/// The built-in wind generators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Generator {
+    /// No wind: a plain random walk (article Fig. 2).
+    Calm,
+    /// The same wind everywhere (Fig. 4). Options: angle, speed.
+    Uniform,
+    /// Two winds meeting head-on in alternating bands (Fig. 5). Options: angle, speed, spread,
+    /// wavelength.
+    Bimodal,
+    /// A drift converging around an array of centres (Figs. 6, 7). Options: angle, speed,
+    /// radial, wavelength, spacing, radius.
+    Converging,
+    /// Direction rotating around an array of nodes: star dunes (Fig. 8). Options: angle,
+    /// speed, wavelength, arms.
+    Rotating,
+}
+
+impl Generator {
+    fn name(self) -> &'static str {
+        match self {
+            Generator::Calm => "calm",
+            Generator::Uniform => "uniform",
+            Generator::Bimodal => "bimodal",
+            Generator::Converging => "converging",
+            Generator::Rotating => "rotating",
+        }
+    }
+}
+
+/// Options of `cellsurf cursor`.
 #[derive(clap::Args)]
-pub struct Args {}
+#[command(
+    long_about = "Wind-field cursor walk: one cursor walks an 8-neighbour torus and each cell it \
+        arrives in gains one unit of height. Under a wind W the move in direction i (unit vector \
+        u_i) has probability P_i = 1/8 + k (W . u_i) / 1760, which stays in [0, 1/4] for \
+        0 <= k <= 1 and |W| <= 220. A wind image's pixels are three colour vectors: red toward \
+        +x (right), green toward 120 degrees, blue toward 240 degrees (grey = calm).",
+    after_help = "Examples:\n  \
+        cellsurf cursor --out brownian.png                       # calm air, 11,520,000 steps\n  \
+        cellsurf cursor --wind-field uniform --wind-angle 30 --json\n  \
+        cellsurf cursor --wind-field rotating --k 0.5 --out star.png\n  \
+        cellsurf cursor --wind-field bimodal --save-wind w.png && cellsurf cursor --wind w.png\n  \
+        cellsurf cursor --wind my_winds.png --wind-scale 0.86 --sea-quantile 0.8 --out m.png"
+)]
+pub struct Args {
+    /// Steps of the walk (particles; 1 to 10^12). The article's runs use 11,520,000.
+    #[arg(long, default_value_t = ARTICLE_STEPS)]
+    steps: u64,
+    /// Force constant k, 0 to 1 (k = 0: Brownian whatever the wind).
+    #[arg(long, default_value_t = DEFAULT_K, allow_negative_numbers = true)]
+    k: f64,
+    /// Wind field from a PNG image, one pixel per cell (8-bit RGB, RGBA, grey or palette;
+    /// image row 0 is the top row of the grid). Its size sets the grid unless --size is given,
+    /// which it must then match.
+    #[arg(long, value_name = "FILE.png", conflicts_with = "wind_field")]
+    wind: Option<PathBuf>,
+    /// Multiply the wind image's winds by this factor (0.86 = 220/255 admits every colour).
+    #[arg(
+        long,
+        value_name = "F",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    wind_scale: f64,
+    /// Built-in wind field (default calm when no --wind is given).
+    #[arg(long, value_name = "NAME", value_enum)]
+    wind_field: Option<Generator>,
+    /// Generator: direction the wind (uniform, bimodal bands, converging drift) blows toward,
+    /// or of one star arm (rotating), degrees counter-clockwise from +x. Default 30 (uniform),
+    /// 60 (bimodal), 0 (converging, rotating).
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    wind_angle: Option<f64>,
+    /// Generator: wind speed, article units 0 to 220 (the drift for converging). Default 220
+    /// (uniform, bimodal), 50 (converging), 60 (rotating).
+    #[arg(long, value_name = "SPEED", allow_negative_numbers = true)]
+    wind_speed: Option<f64>,
+    /// Bimodal: angle between the two winds, degrees, 0 to 180 (180 = exactly opposite).
+    /// Default 150.
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
+    wind_spread: Option<f64>,
+    /// Bimodal: distance between ridges; converging: between centres along x; rotating:
+    /// between nodes. Cells, at least 4. Default 40 (bimodal), 80 (converging), 60 (rotating).
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    wind_wavelength: Option<f64>,
+    /// Converging: distance between centres along y, cells, at least 4. Default 120.
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    wind_spacing: Option<f64>,
+    /// Converging: largest radial wind around each centre, article units (> 0 outward,
+    /// < 0 inward; speed + |radial| at most 220). Default 160.
+    #[arg(long, value_name = "SPEED", allow_negative_numbers = true)]
+    wind_radial: Option<f64>,
+    /// Converging: radius of the radial wind, cells (1 to half the smaller distance between
+    /// centres). Default 25.
+    #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
+    wind_radius: Option<f64>,
+    /// Rotating: arms of each star, 0 to 12 (0: round mounds). Default 4.
+    #[arg(long, value_name = "N")]
+    wind_arms: Option<u32>,
+    /// Grid size in cells, W or WxH, each side 3 or more. Default 240x240 (the article does
+    /// not give its grid), or the wind image's size.
+    #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
+    size: Option<(usize, usize)>,
+    /// Seed of the random stream (the same seed gives the same output).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Sea level for --out, in visits: cells lower than this are drawn as water. Default:
+    /// half the mean height (100 for the article's steps on 240x240 cells).
+    #[arg(
+        long,
+        value_name = "HEIGHT",
+        allow_negative_numbers = true,
+        conflicts_with_all = ["sea_fraction", "sea_quantile"]
+    )]
+    sea_level: Option<f64>,
+    /// Sea level as a fraction of the mean height (default 0.5).
+    #[arg(
+        long,
+        value_name = "F",
+        allow_negative_numbers = true,
+        conflicts_with = "sea_quantile"
+    )]
+    sea_fraction: Option<f64>,
+    /// Sea level as a quantile of the heights: this fraction of the cells is flooded (0 to 1).
+    #[arg(long, value_name = "Q", allow_negative_numbers = true)]
+    sea_quantile: Option<f64>,
+    /// Write the landscape (flooded below the sea level) next to the wind field as a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    out: Option<PathBuf>,
+    /// Write the wind field as a PNG in the article's colour encoding (readable by --wind).
+    #[arg(long, value_name = "FILE.png")]
+    save_wind: Option<PathBuf>,
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
 
-/// Runs the subcommand.
-pub fn run(_a: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("'{s}' is not a size: expected W or WxH with whole numbers, e.g. 240x240");
+    let (w, h) = s.split_once(['x', 'X']).unwrap_or((s, s));
+    let w: usize = w.trim().parse().map_err(|_| bad())?;
+    let h: usize = h.trim().parse().map_err(|_| bad())?;
+    Ok((w, h))
+}
+
+/// Largest number of steps.
+const MAX_STEPS: u64 = 1_000_000_000_000;
+/// Steps between progress updates.
+const CHUNK: u64 = 1 << 20;
+
+/// The generator options given, by flag name.
+fn generator_options(a: &Args) -> Vec<&'static str> {
+    let mut v = Vec::new();
+    let flags: [(&'static str, bool); 8] = [
+        ("--wind-angle", a.wind_angle.is_some()),
+        ("--wind-speed", a.wind_speed.is_some()),
+        ("--wind-spread", a.wind_spread.is_some()),
+        ("--wind-wavelength", a.wind_wavelength.is_some()),
+        ("--wind-spacing", a.wind_spacing.is_some()),
+        ("--wind-radial", a.wind_radial.is_some()),
+        ("--wind-radius", a.wind_radius.is_some()),
+        ("--wind-arms", a.wind_arms.is_some()),
+    ];
+    for (name, given) in flags {
+        if given {
+            v.push(name);
+        }
+    }
+    v
+}
+
+/// The generator from the options: the article's settings ([`WindSpec::article`]) with each
+/// given option applied; an option the generator does not take is an error.
+fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
+    let takes: &[&str] = match g {
+        Generator::Calm => &[],
+        Generator::Uniform => &["--wind-angle", "--wind-speed"],
+        Generator::Bimodal => &[
+            "--wind-angle",
+            "--wind-speed",
+            "--wind-spread",
+            "--wind-wavelength",
+        ],
+        Generator::Converging => &[
+            "--wind-angle",
+            "--wind-speed",
+            "--wind-radial",
+            "--wind-wavelength",
+            "--wind-spacing",
+            "--wind-radius",
+        ],
+        Generator::Rotating => &[
+            "--wind-angle",
+            "--wind-speed",
+            "--wind-wavelength",
+            "--wind-arms",
+        ],
+    };
+    if let Some(bad) = generator_options(a)
+        .into_iter()
+        .find(|f| !takes.contains(f))
+    {
+        bail!(
+            "{bad} does not apply to --wind-field {}: it takes {}",
+            g.name(),
+            if takes.is_empty() {
+                "no options".to_string()
+            } else {
+                takes.join(", ")
+            }
+        );
+    }
+    let mut s = WindSpec::article(g.name()).context("unknown generator")?;
+    match &mut s {
+        WindSpec::Calm => {}
+        WindSpec::Uniform { angle_deg, speed } => {
+            set(angle_deg, a.wind_angle);
+            set(speed, a.wind_speed);
+        }
+        WindSpec::Bimodal {
+            angle_deg,
+            speed,
+            spread_deg,
+            wavelength,
+        } => {
+            set(angle_deg, a.wind_angle);
+            set(speed, a.wind_speed);
+            set(spread_deg, a.wind_spread);
+            set(wavelength, a.wind_wavelength);
+        }
+        WindSpec::Converging {
+            angle_deg,
+            speed,
+            radial,
+            wavelength,
+            spacing,
+            radius,
+        } => {
+            set(angle_deg, a.wind_angle);
+            set(speed, a.wind_speed);
+            set(radial, a.wind_radial);
+            set(wavelength, a.wind_wavelength);
+            set(spacing, a.wind_spacing);
+            set(radius, a.wind_radius);
+        }
+        WindSpec::Rotating {
+            angle_deg,
+            speed,
+            wavelength,
+            arms,
+        } => {
+            set(angle_deg, a.wind_angle);
+            set(speed, a.wind_speed);
+            set(wavelength, a.wind_wavelength);
+            set(arms, a.wind_arms);
+        }
+    }
+    s.validate()
+        .with_context(|| format!("in --wind-field {}", g.name()))?;
+    Ok(s)
+}
+
+fn set<T>(slot: &mut T, v: Option<T>) {
+    if let Some(v) = v {
+        *slot = v;
+    }
+}
+
+/// Where the wind came from, for the summary.
+enum Source {
+    Image(PathBuf),
+    Generator(WindSpec),
+}
+
+/// Runs `cellsurf cursor`.
+pub fn run(a: Args) -> Result<()> {
+    if a.steps == 0 || a.steps > MAX_STEPS {
+        bail!(
+            "steps = {} is out of range: it must be between 1 and {MAX_STEPS}",
+            a.steps
+        );
+    }
+    if !(a.k.is_finite() && (0.0..=1.0).contains(&a.k)) {
+        bail!(
+            "k = {} is out of range: the force constant must be between 0 and 1, so that every probability P_i = 1/8 + k (W . u_i) / 1760 stays between 0 and 1",
+            a.k
+        );
+    }
+    let sea = match (a.sea_level, a.sea_fraction, a.sea_quantile) {
+        (Some(v), _, _) => SeaLevel::Height(v),
+        (_, Some(f), _) => SeaLevel::MeanFraction(f),
+        (_, _, Some(q)) => SeaLevel::Quantile(q),
+        _ => SeaLevel::default(),
+    };
+    sea.validate()
+        .context("in --sea-level, --sea-fraction or --sea-quantile")?;
+    if let Some((w, h)) = a.size {
+        check_size(w, h).context("in --size")?;
+    }
+    let (field, source) = match (&a.wind, a.wind_field) {
+        (Some(path), _) => {
+            if let Some(f) = generator_options(&a).first() {
+                bail!("{f} applies to --wind-field generators, not to a --wind image");
+            }
+            let field = WindField::from_png(path, a.size, a.wind_scale)?;
+            (field, Source::Image(path.clone()))
+        }
+        (None, g) => {
+            if a.wind_scale != 1.0 {
+                bail!("--wind-scale applies to a --wind image only");
+            }
+            let g = g.unwrap_or(Generator::Calm);
+            let s = spec(g, &a)?;
+            let (w, h) = a.size.unwrap_or(DEFAULT_SIZE);
+            let field = s
+                .field(w, h)
+                .with_context(|| format!("in --wind-field {}", g.name()))?;
+            (field, Source::Generator(s))
+        }
+    };
+    let (w, h) = (field.width(), field.height());
+    if let Some(p) = &a.save_wind {
+        let bytes = field.to_png_bytes()?;
+        write_atomic(p, &bytes).with_context(|| format!("writing --save-wind {}", p.display()))?;
+    }
+    let setup = Instant::now();
+    let tr = Transitions::new(&field, a.k)?;
+    let setup_s = setup.elapsed().as_secs_f64();
+
+    let silent = a.quiet || a.json;
+    let bar = ProgressBar::with_draw_target(Some(a.steps), ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("cursor {w}x{h}"));
+    let start = Instant::now();
+    let mut walk = CursorWalk::new(&tr, a.seed);
+    let mut shown = false;
+    while walk.steps() < a.steps {
+        walk.run(CHUNK.min(a.steps - walk.steps()));
+        if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+            shown = true;
+        }
+        bar.set_position(walk.steps());
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+
+    let heights = walk.heights();
+    let total = walk.height_total();
+    if total != walk.steps() {
+        bail!(
+            "internal error: heights sum to {total}, not to the {} steps",
+            walk.steps()
+        );
+    }
+    let doubly = tr.is_doubly_stochastic();
+    let density_error = if doubly {
+        stats::density_error(heights)
+    } else {
+        None
+    };
+    let noise = NoiseModel::for_transitions(&tr);
+    let expected_error = noise.as_ref().map(|m| m.expected_error(walk.steps()));
+    let (dx, dy) = walk.displacement();
+    let n = walk.steps() as f64;
+    let drift = (dx as f64 / n, dy as f64 / n);
+    let drift_expected = tr
+        .is_translation_invariant()
+        .then(|| stats::mean_step(&tr.cell_probabilities(0)));
+    let level = sea.resolve(heights);
+    let flooded = display::flooded_fraction(heights, level);
+    let max_h = heights.iter().copied().max().unwrap_or(0);
+    let min_h = heights.iter().copied().min().unwrap_or(0);
+    let mean_h = total as f64 / heights.len() as f64;
+    let wind_text = match &source {
+        Source::Image(p) => format!("wind image {} (scale {})", p.display(), a.wind_scale),
+        Source::Generator(s) => format!("{} wind", s.name()),
+    };
+    let describe = format!(
+        "{wind_text}, {w}x{h} torus, k = {}, {} steps, seed {}",
+        a.k,
+        walk.steps(),
+        a.seed
+    );
+
+    if let Some(p) = &a.out {
+        let caption = format!(
+            "{describe}\nsea level {level:.1} visits ({}); cellsurf {VERSION}",
+            sea_words(&sea)
+        );
+        draw_landscape(
+            p,
+            "Wind-field cursor walk: heights = visits",
+            &caption,
+            &field,
+            heights,
+            level,
+        )
+        .with_context(|| format!("writing --out {}", p.display()))?;
+    }
+
+    let wind_json = match &source {
+        Source::Image(p) => serde_json::json!({
+            "image": p.display().to_string(),
+            "scale": a.wind_scale,
+        }),
+        Source::Generator(s) => serde_json::to_value(s)?,
+    };
+    // Output errors (a closed pipe) are reported, not panicked on.
+    let mut out = std::io::stdout().lock();
+    if a.json {
+        let v = serde_json::json!({
+            "model": "cursor",
+            "steps": walk.steps(),
+            "elapsed_s": elapsed,
+            "setup_s": setup_s,
+            "steps_per_s": n / elapsed.max(1e-12),
+            "height_total": total,
+            "density_error": density_error,
+            "density_error_expected": expected_error,
+            "density_reference": if doubly { serde_json::json!("uniform") } else { serde_json::Value::Null },
+            "drift_per_step": [drift.0, drift.1],
+            "drift_expected": drift_expected.map(|d| [d.0, d.1]),
+            "min_height": min_h,
+            "max_height": max_h,
+            "mean_height": mean_h,
+            "sea_level": level,
+            "flooded_fraction": flooded,
+            "final_position": [walk.position().0, walk.position().1],
+            "max_wind": field.max_speed(),
+            "version": VERSION,
+            "parameters": {
+                "steps": a.steps,
+                "k": a.k,
+                "width": w,
+                "height": h,
+                "seed": a.seed,
+                "wind": wind_json,
+                "sea": sea,
+                "start": [w / 2, h / 2],
+            },
+        });
+        writeln!(out, "{}", serde_json::to_string(&v)?)?;
+    } else {
+        let mut lines = vec![
+            format!("cellsurf {VERSION} cursor: {describe}"),
+            format!(
+                "  {} steps in {elapsed:.3} s ({:.1} M steps/s; tables {setup_s:.3} s); heights sum to {total}",
+                walk.steps(),
+                n / elapsed.max(1e-12) / 1e6
+            ),
+            format!(
+                "  heights: min {min_h}, mean {mean_h:.1}, max {max_h}; sea level {level:.1} ({}), {:.1}% flooded",
+                sea_words(&sea),
+                100.0 * flooded
+            ),
+            match (density_error, expected_error) {
+                (Some(e), Some(x)) => format!(
+                    "  density error {e:.4} (relative RMS deviation from uniform; {x:.4} expected from noise alone)"
+                ),
+                (Some(e), None) => {
+                    format!("  density error {e:.4} (relative RMS deviation from uniform)")
+                }
+                _ => "  density error: not defined (this wind field's long-run density is not uniform)"
+                    .to_string(),
+            },
+            match drift_expected {
+                Some(d) => format!(
+                    "  drift per step ({:.4}, {:.4}) cells, expected ({:.4}, {:.4})",
+                    drift.0, drift.1, d.0, d.1
+                ),
+                None => format!("  drift per step ({:.4}, {:.4}) cells", drift.0, drift.1),
+            },
+        ];
+        for p in a.out.iter().chain(a.save_wind.iter()) {
+            lines.push(format!("  wrote {}", p.display()));
+        }
+        writeln!(out, "{}", lines.join("\n"))?;
+    }
+    Ok(())
+}
+
+fn sea_words(sea: &SeaLevel) -> String {
+    match *sea {
+        SeaLevel::Height(v) => format!("--sea-level {v}"),
+        SeaLevel::MeanFraction(f) => format!("{f} x the mean height"),
+        SeaLevel::Quantile(q) => format!("lowest {:.0}% of the cells", 100.0 * q),
+    }
 }

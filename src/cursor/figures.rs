@@ -1,0 +1,608 @@
+//! The cursor model's figures (feature `plot`): the article's Figs. 2 and 4-8 in kind, the
+//! effect of `k`, and the density error against the number of steps.
+//!
+//! Every landscape is one walk of the article's 11,520,000 steps on the default 240 x 240 grid
+//! from seed 1, drawn next to its wind field (the article's input image, RGB encoding,
+//! lightened, with arrows). The wind fields are the generators' article settings
+//! ([`WindSpec::article`]); crescentic ridges use the converging generator with centres 60 x 40
+//! cells apart. Sea levels: Figs. 2 and 4 flood the lowest 30% of the cells (a Brownian field
+//! never falls to half its mean); Fig. 6 floods the lowest 85% so that the crescents stand
+//! out; the others use a fraction of the mean height, the same for every `k` of a figure, as in
+//! the article ("If one keeps the sea level equal for simulations with different k").
+
+use std::path::{Path, PathBuf};
+
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use rayon::prelude::*;
+
+use crate::figures::{Figure, FigureError};
+use crate::plot::{self, Chart, PlotError, Series};
+use crate::scene::VERSION;
+
+use super::display::{SeaLevel, flooded_fraction, terrain_rgb};
+use super::stats::{self, NoiseModel};
+use super::walk::{CursorWalk, Transitions};
+use super::wind::{WindField, WindSpec};
+use super::{ARTICLE_STEPS, CursorError, DEFAULT_K, DEFAULT_SIZE, MAX_WIND};
+
+/// The figures, in the article's order.
+pub(super) const FIGURES: &[Figure] = &[
+    Figure {
+        name: "cursor_fig2_brownian",
+        about: "Fig. 2: Brownian field (calm air), 11.52 M steps, lowest 30% flooded",
+        make: fig2,
+    },
+    Figure {
+        name: "cursor_fig4_uniform",
+        about: "Fig. 4: ridges along a uniform wind",
+        make: fig4,
+    },
+    Figure {
+        name: "cursor_fig5_linear",
+        about: "Fig. 5: linear dunes under bimodal winds meeting head-on",
+        make: fig5,
+    },
+    Figure {
+        name: "cursor_fig6_barchan",
+        about: "Fig. 6: barchan-like crescents where a drift meets outflow around centres",
+        make: fig6,
+    },
+    Figure {
+        name: "cursor_fig7_crescentic",
+        about: "Fig. 7: crescentic ridges at k = 0.10 and 0.50",
+        make: fig7,
+    },
+    Figure {
+        name: "cursor_fig8_star",
+        about: "Fig. 8: network of star dunes at k = 0.25, 0.50 and 0.90",
+        make: fig8,
+    },
+    Figure {
+        name: "cursor_k_effect",
+        about: "Effect of k (0.10, 0.25, 0.50, 0.90) on crescentic ridges and star dunes",
+        make: k_effect,
+    },
+    Figure {
+        name: "cursor_error_vs_time",
+        about: "Density error against steps (calm, uniform wind): slope -1/2, exact expectation",
+        make: error_vs_time,
+    },
+];
+
+/// Seed of every landscape.
+const SEED: u64 = 1;
+/// Pixels per cell in the landscape figures.
+const CELL_PX: usize = 2;
+
+fn model(e: CursorError) -> FigureError {
+    FigureError::Model(e.to_string())
+}
+
+/// A picture with a title, drawn by [`draw_pictures`].
+pub(super) struct Picture {
+    /// Title above the picture.
+    pub title: String,
+    /// RGB8 pixels, row 0 at the top.
+    pub rgb: Vec<u8>,
+    /// Width, pixels.
+    pub w: u32,
+    /// Height, pixels.
+    pub h: u32,
+    /// Arrows `(from, to)` in the picture's pixel coordinates.
+    pub arrows: Vec<((f64, f64), (f64, f64))>,
+}
+
+/// The landscape of `heights` flooded at `sea`, each cell `cell_px` pixels.
+pub(super) fn landscape_picture(
+    title: String,
+    heights: &[u64],
+    width: usize,
+    height: usize,
+    sea: f64,
+    cell_px: usize,
+) -> Picture {
+    Picture {
+        title,
+        rgb: terrain_rgb(heights, width, height, sea, cell_px),
+        w: (width * cell_px) as u32,
+        h: (height * cell_px) as u32,
+        arrows: Vec::new(),
+    }
+}
+
+/// The wind field as the article's input image (RGB encoding, lightened so the arrows show)
+/// with arrows on a coarse grid, each cell `cell_px` pixels.
+pub(super) fn wind_picture(title: String, field: &WindField, cell_px: usize) -> Picture {
+    let (w, h) = (field.width(), field.height());
+    let small = field.to_rgb_image();
+    let (pw, ph) = (w * cell_px, h * cell_px);
+    let mut rgb = vec![0u8; pw * ph * 3];
+    for r in 0..ph {
+        for c in 0..pw {
+            let s = &small[((r / cell_px) * w + c / cell_px) * 3..][..3];
+            for i in 0..3 {
+                rgb[(r * pw + c) * 3 + i] = (128 + u16::from(s[i]) / 2) as u8;
+            }
+        }
+    }
+    let step = (w.max(h) / 16).max(1);
+    let mut arrows = Vec::new();
+    for y in (step / 2..h).step_by(step) {
+        for x in (step / 2..w).step_by(step) {
+            let wind = field.at(x, y);
+            let len = wind.speed() / MAX_WIND * 0.9 * (step * cell_px) as f64;
+            if len < 1.0 {
+                continue;
+            }
+            let (ux, uy) = (wind.x / wind.speed(), wind.y / wind.speed());
+            let cx = (x as f64 + 0.5) * cell_px as f64;
+            let cy = (h as f64 - y as f64 - 0.5) * cell_px as f64;
+            let (dx, dy) = (ux * len / 2.0, -uy * len / 2.0);
+            arrows.push(((cx - dx, cy - dy), (cx + dx, cy + dy)));
+        }
+    }
+    Picture {
+        title,
+        rgb,
+        w: pw as u32,
+        h: ph as u32,
+        arrows,
+    }
+}
+
+/// Draws `pictures` in a grid of `cols` columns under `title`, with `caption` (may be empty)
+/// at the bottom, and writes the PNG atomically.
+pub(super) fn draw_pictures(
+    path: &Path,
+    title: &str,
+    caption: &str,
+    pictures: &[Picture],
+    cols: usize,
+) -> Result<(), PlotError> {
+    const GAP: u32 = 12;
+    let cols = cols.clamp(1, pictures.len().max(1)) as u32;
+    let rows = (pictures.len() as u32).div_ceil(cols);
+    let cw = pictures.iter().map(|p| p.w).max().unwrap_or(1);
+    let ch = pictures.iter().map(|p| p.h).max().unwrap_or(1);
+    let font = (f64::from(cw) / 26.0).clamp(13.0, 22.0);
+    let title_h = (font * 2.4) as u32;
+    let sub_h = (font * 1.7) as u32;
+    let cap_h = if caption.is_empty() {
+        0
+    } else {
+        (font * 1.6) as u32 * (caption.lines().count() as u32)
+    };
+    let width = GAP + cols * (cw + GAP);
+    let height = title_h + rows * (sub_h + ch + GAP) + cap_h + GAP / 2;
+    plot::check_picture_size("pictures", u64::from(width), u64::from(height))?;
+    let mut buf = vec![255u8; (width * height * 3) as usize];
+    plot::ensure_fonts();
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(PlotError::drawing)?;
+        let centred = |size: f64, bold: bool| {
+            let f = if bold {
+                ("sans-serif", size, FontStyle::Bold).into_font()
+            } else {
+                ("sans-serif", size).into_font()
+            };
+            f.color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center))
+        };
+        root.draw(&Text::new(
+            title.to_string(),
+            ((width / 2) as i32, (title_h / 2) as i32),
+            centred(font * 1.2, true),
+        ))
+        .map_err(PlotError::drawing)?;
+        for (k, p) in pictures.iter().enumerate() {
+            let (r, c) = (k as u32 / cols, k as u32 % cols);
+            let x0 = GAP + c * (cw + GAP) + (cw - p.w) / 2;
+            let y0 = title_h + r * (sub_h + ch + GAP);
+            root.draw(&Text::new(
+                p.title.clone(),
+                ((x0 + p.w / 2) as i32, (y0 + sub_h / 2) as i32),
+                centred(font, false),
+            ))
+            .map_err(PlotError::drawing)?;
+            let top = y0 + sub_h;
+            let bitmap = BitMapElement::with_owned_buffer(
+                (x0 as i32, top as i32),
+                (p.w, p.h),
+                p.rgb.clone(),
+            )
+            .ok_or_else(|| PlotError::Drawing("picture size mismatch".into()))?;
+            root.draw(&bitmap).map_err(PlotError::drawing)?;
+            root.draw(&Rectangle::new(
+                [
+                    (x0 as i32 - 1, top as i32 - 1),
+                    ((x0 + p.w) as i32, (top + p.h) as i32),
+                ],
+                RGBColor(120, 120, 120).stroke_width(1),
+            ))
+            .map_err(PlotError::drawing)?;
+            let ink = RGBColor(20, 20, 20);
+            for &((ax, ay), (bx, by)) in &p.arrows {
+                let at = |x: f64, y: f64| ((x0 as f64 + x) as i32, (top as f64 + y) as i32);
+                root.draw(&PathElement::new(
+                    vec![at(ax, ay), at(bx, by)],
+                    ink.stroke_width(1),
+                ))
+                .map_err(PlotError::drawing)?;
+                let (dx, dy) = (bx - ax, by - ay);
+                let l = dx.hypot(dy).max(1e-9);
+                let (ux, uy) = (dx / l, dy / l);
+                let head = (l * 0.35).clamp(2.0, 6.0);
+                let left = at(bx - head * (ux + 0.5 * uy), by - head * (uy - 0.5 * ux));
+                let right = at(bx - head * (ux - 0.5 * uy), by - head * (uy + 0.5 * ux));
+                root.draw(&Polygon::new(vec![at(bx, by), left, right], ink.filled()))
+                    .map_err(PlotError::drawing)?;
+            }
+        }
+        for (i, line) in caption.lines().enumerate() {
+            let y = height - cap_h - GAP / 2 + (font * 1.6) as u32 * i as u32 + (font * 0.8) as u32;
+            root.draw(&Text::new(
+                line.to_string(),
+                ((width / 2) as i32, y as i32),
+                centred(font * 0.85, false),
+            ))
+            .map_err(PlotError::drawing)?;
+        }
+        root.present().map_err(PlotError::drawing)?;
+    }
+    let png = plot::encode_png(&buf, width, height)?;
+    crate::io::write_atomic(path, &png)?;
+    Ok(())
+}
+
+/// Runs the walk on `field` with `k` for `steps` steps from seed `seed`; returns the heights.
+pub(super) fn simulate(
+    field: &WindField,
+    k: f64,
+    steps: u64,
+    seed: u64,
+) -> Result<Vec<u64>, CursorError> {
+    let tr = Transitions::new(field, k)?;
+    let mut walk = CursorWalk::new(&tr, seed);
+    walk.run(steps);
+    Ok(walk.into_heights())
+}
+
+/// The crescentic-ridge field: the converging generator with centres close across the drift.
+fn crescentic() -> WindSpec {
+    WindSpec::Converging {
+        angle_deg: 0.0,
+        speed: 60.0,
+        radial: 150.0,
+        wavelength: 60.0,
+        spacing: 40.0,
+        radius: 20.0,
+    }
+}
+
+/// The generator's article settings.
+fn article(name: &str) -> Result<WindSpec, FigureError> {
+    WindSpec::article(name).ok_or_else(|| FigureError::Model(format!("no generator {name}")))
+}
+
+/// A short description of a generator's parameters, for captions.
+fn describe(spec: &WindSpec) -> String {
+    match *spec {
+        WindSpec::Calm => "calm".into(),
+        WindSpec::Uniform { angle_deg, speed } => {
+            format!("uniform: toward {angle_deg} deg at {speed}")
+        }
+        WindSpec::Bimodal {
+            angle_deg,
+            speed,
+            spread_deg,
+            wavelength,
+        } => format!(
+            "bimodal: bands along {angle_deg} deg, speed {speed}, spread {spread_deg} deg, wavelength {wavelength} cells"
+        ),
+        WindSpec::Converging {
+            angle_deg,
+            speed,
+            radial,
+            wavelength,
+            spacing,
+            radius,
+        } => format!(
+            "converging: drift {speed} toward {angle_deg} deg, radial {radial} within {radius} cells of centres {wavelength} x {spacing} cells apart"
+        ),
+        WindSpec::Rotating {
+            angle_deg,
+            speed,
+            wavelength,
+            arms,
+        } => format!(
+            "rotating: {arms} arms from {angle_deg} deg, speed {speed}, nodes {wavelength} cells apart"
+        ),
+    }
+}
+
+/// Runs one landscape per `k` on `spec` in parallel; returns the field and the heights.
+fn landscapes(spec: &WindSpec, ks: &[f64]) -> Result<(WindField, Vec<Vec<u64>>), FigureError> {
+    let (w, h) = DEFAULT_SIZE;
+    let field = spec.field(w, h).map_err(model)?;
+    let runs: Result<Vec<Vec<u64>>, CursorError> = ks
+        .par_iter()
+        .map(|&k| simulate(&field, k, ARTICLE_STEPS, SEED))
+        .collect();
+    Ok((field, runs.map_err(model)?))
+}
+
+/// A figure of a wind field and its landscapes for several `k`, all flooded at the sea level
+/// `sea` resolves to on the first landscape.
+fn landscape_figure(
+    dir: &Path,
+    name: &str,
+    title: &str,
+    spec: &WindSpec,
+    ks: &[f64],
+    sea: SeaLevel,
+) -> Result<Vec<PathBuf>, FigureError> {
+    let (w, h) = DEFAULT_SIZE;
+    let (field, runs) = landscapes(spec, ks)?;
+    let level = sea.resolve(&runs[0]);
+    let mut pics = vec![wind_picture(
+        "wind field (RGB encoding, arrows)".into(),
+        &field,
+        CELL_PX,
+    )];
+    for (k, hts) in ks.iter().zip(&runs) {
+        pics.push(landscape_picture(
+            format!(
+                "k = {k:.2}: max height {}, {:.0}% flooded",
+                hts.iter().max().copied().unwrap_or(0),
+                100.0 * flooded_fraction(hts, level)
+            ),
+            hts,
+            w,
+            h,
+            level,
+            CELL_PX,
+        ));
+    }
+    let caption = format!(
+        "{}\n{w} x {h} torus, {ARTICLE_STEPS} steps, seed {SEED}; sea level {level:.0} visits ({}); cellsurf {VERSION}",
+        describe(spec),
+        sea_words(&sea)
+    );
+    let path = dir.join(format!("{name}.png"));
+    draw_pictures(&path, title, &caption, &pics, pics.len().min(4))?;
+    Ok(vec![path])
+}
+
+fn sea_words(sea: &SeaLevel) -> String {
+    match *sea {
+        SeaLevel::Height(v) => format!("set to {v}"),
+        SeaLevel::MeanFraction(f) => format!("{f} x the mean height"),
+        SeaLevel::Quantile(q) => format!("lowest {:.0}% of the cells", 100.0 * q),
+    }
+}
+
+fn fig2(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig2_brownian",
+        "Fig. 2: dune field generated by sheer Brownian motion (calm air)",
+        &WindSpec::Calm,
+        &[DEFAULT_K],
+        SeaLevel::Quantile(0.3),
+    )
+}
+
+fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig4_uniform",
+        "Fig. 4: ridges form along the wind path in a uniform wind",
+        &article("uniform")?,
+        &[DEFAULT_K],
+        SeaLevel::Quantile(0.3),
+    )
+}
+
+fn fig5(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig5_linear",
+        "Fig. 5: linear dunes under bimodal winds meeting head-on",
+        &article("bimodal")?,
+        &[DEFAULT_K],
+        SeaLevel::MeanFraction(0.5),
+    )
+}
+
+fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig6_barchan",
+        "Fig. 6: barchan-like crescents, horns downwind (drift to the right)",
+        &article("converging")?,
+        &[DEFAULT_K],
+        SeaLevel::Quantile(0.85),
+    )
+}
+
+fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig7_crescentic",
+        "Fig. 7: effect of k on crescentic dunes (a: k = 0.10, b: k = 0.50)",
+        &crescentic(),
+        &[0.10, 0.50],
+        SeaLevel::MeanFraction(1.3),
+    )
+}
+
+fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    landscape_figure(
+        dir,
+        "cursor_fig8_star",
+        "Fig. 8: effect of k on a network of star dunes (k = 0.25, 0.50, 0.90)",
+        &article("rotating")?,
+        &[0.25, 0.50, 0.90],
+        SeaLevel::MeanFraction(0.5),
+    )
+}
+
+fn k_effect(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let (w, h) = DEFAULT_SIZE;
+    let ks = [0.10, 0.25, 0.50, 0.90];
+    let rows = [
+        (crescentic(), SeaLevel::MeanFraction(1.3)),
+        (article("rotating")?, SeaLevel::MeanFraction(0.5)),
+    ];
+    let mut pics = Vec::new();
+    let mut lines = Vec::new();
+    for (spec, sea) in &rows {
+        let (field, runs) = landscapes(spec, &ks)?;
+        let level = sea.resolve(&runs[0]);
+        pics.push(wind_picture(
+            format!("{} wind", spec.name()),
+            &field,
+            CELL_PX,
+        ));
+        for (k, hts) in ks.iter().zip(&runs) {
+            pics.push(landscape_picture(
+                format!(
+                    "k = {k:.2}: max {}, {:.0}% flooded",
+                    hts.iter().max().copied().unwrap_or(0),
+                    100.0 * flooded_fraction(hts, level)
+                ),
+                hts,
+                w,
+                h,
+                level,
+                CELL_PX,
+            ));
+        }
+        lines.push(format!(
+            "{}; sea level {level:.0} visits ({})",
+            describe(spec),
+            sea_words(sea)
+        ));
+    }
+    lines.push(format!(
+        "{w} x {h} torus, {ARTICLE_STEPS} steps, seed {SEED}; lower k: fuzzier, lower dunes (more Brownian); cellsurf {VERSION}"
+    ));
+    let path = dir.join("cursor_k_effect.png");
+    draw_pictures(
+        &path,
+        "Effect of the force constant k: crescentic ridges (top), star dunes (bottom)",
+        &lines.join("\n"),
+        &pics,
+        5,
+    )?;
+    Ok(vec![path])
+}
+
+/// Seeds averaged in the error-against-steps figure.
+const ERROR_SEEDS: u64 = 4;
+
+/// The density error against steps for one uniform wind: the RMS over seeds of the measured
+/// error, and the exact expectation, at `checkpoints`.
+fn error_series(spec: &WindSpec, checkpoints: &[u64]) -> Result<(Vec<f64>, Vec<f64>), FigureError> {
+    let (w, h) = DEFAULT_SIZE;
+    let field = spec.field(w, h).map_err(model)?;
+    let tr = Transitions::new(&field, DEFAULT_K).map_err(model)?;
+    let curves: Vec<Vec<stats::ErrorPoint>> = (0..ERROR_SEEDS)
+        .into_par_iter()
+        .map(|s| stats::error_curve(&tr, 100 + s, checkpoints))
+        .collect();
+    let measured = (0..checkpoints.len())
+        .map(|i| {
+            let ms: f64 = curves
+                .iter()
+                .map(|c| c[i].density_error.powi(2))
+                .sum::<f64>()
+                / curves.len() as f64;
+            ms.sqrt()
+        })
+        .collect();
+    let noise = NoiseModel::for_transitions(&tr)
+        .ok_or_else(|| FigureError::Model("the error figure needs a uniform wind".into()))?;
+    let expected = checkpoints
+        .iter()
+        .map(|&n| noise.expected_error(n))
+        .collect();
+    Ok((measured, expected))
+}
+
+/// The first step count of the slope fit: well past the slowest mode's relaxation (about
+/// 4,000 steps for calm air on 240 x 240 cells).
+const FIT_FROM: u64 = 100_000;
+
+fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let checkpoints = stats::log_spaced(1_000, ARTICLE_STEPS, 25);
+    let x: Vec<f64> = checkpoints.iter().map(|&n| n as f64).collect();
+    let mut err_series = Vec::new();
+    let mut scaled_series = Vec::new();
+    for spec in [WindSpec::Calm, article("uniform")?] {
+        let (measured, expected) = error_series(&spec, &checkpoints)?;
+        let fit: Vec<(f64, f64)> = x
+            .iter()
+            .zip(&measured)
+            .filter(|(n, _)| **n >= FIT_FROM as f64)
+            .map(|(&n, &e)| (n, e))
+            .collect();
+        let slope = stats::loglog_slope(&fit).map(|s| s.0).unwrap_or(f64::NAN);
+        let name = spec.name();
+        err_series.push(Series {
+            label: format!(
+                "{name}: RMS of {ERROR_SEEDS} seeds, slope {slope:.3} (fit from N = {FIT_FROM})"
+            ),
+            x: x.clone(),
+            y: measured.clone(),
+            points: true,
+        });
+        err_series.push(Series {
+            label: format!("{name}: exact expectation"),
+            x: x.clone(),
+            y: expected.clone(),
+            points: false,
+        });
+        scaled_series.push(Series {
+            label: format!("{name}: measured"),
+            x: x.clone(),
+            y: measured.iter().zip(&x).map(|(e, n)| e * n.sqrt()).collect(),
+            points: true,
+        });
+        scaled_series.push(Series {
+            label: format!("{name}: exact expectation"),
+            x: x.clone(),
+            y: expected.iter().zip(&x).map(|(e, n)| e * n.sqrt()).collect(),
+            points: false,
+        });
+    }
+    let (w, h) = DEFAULT_SIZE;
+    let charts = [
+        Chart {
+            title: "relative RMS deviation of the visit density from uniform".into(),
+            x_label: "steps N".into(),
+            y_label: "density error".into(),
+            series: err_series,
+            log_x: true,
+            log_y: true,
+        },
+        Chart {
+            title: "error x sqrt(N): flat where the error falls like 1/sqrt(N)".into(),
+            x_label: "steps N".into(),
+            y_label: "density error x sqrt(N)".into(),
+            series: scaled_series,
+            log_x: true,
+            log_y: false,
+        },
+    ];
+    let path = dir.join("cursor_error_vs_time.png");
+    plot::line_charts(
+        &path,
+        &format!("Cursor walk: density error against steps ({w} x {h} torus, k = {DEFAULT_K})"),
+        &charts,
+        2,
+        (760, 540),
+    )?;
+    Ok(vec![path])
+}
