@@ -1,10 +1,279 @@
-//! `cellsurf ripple`: placeholder, being written.
+//! `cellsurf ripple`: runs the sand-ripple volume generator ([`cellsurf::ripple`]) and writes
+//! the volume as NetCDF-3 or `.npy` files; `--json` prints a summary.
+//!
+//! Parameters come from the defaults (the paper's Fig. 3 situation), then a `--scenario`
+//! TOML file (the same keys as the options, with underscores; unknown keys rejected), then the
+//! options given on the command line.
 
-/// Options.
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
+use cellsurf::ripple::{
+    Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
+};
+
+/// Options of `cellsurf ripple`.
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// Scene file (TOML) with the same keys as the options (e.g. `current_angle = 30`).
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
+    /// 2d (one section along the current) or 3d.
+    #[arg(long)]
+    mode: Option<Mode>,
+    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3).
+    #[arg(long)]
+    abstraction: Option<Abstraction>,
+    /// Columns along x [default 128].
+    #[arg(long)]
+    nx: Option<usize>,
+    /// Columns along y [default 64; 1 in 2d].
+    #[arg(long)]
+    ny: Option<usize>,
+    /// Mean initial sand thickness, automata per column [default 30].
+    #[arg(long)]
+    layers: Option<usize>,
+    /// Horizontal bin size, m [default 0.005].
+    #[arg(long)]
+    bin_size: Option<f64>,
+    /// Layer thickness gd, m [default 0.0005].
+    #[arg(long)]
+    layer_thickness: Option<f64>,
+    /// Steps [default 3000].
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Fraction of automata triggered per step [default 0.001].
+    #[arg(long)]
+    activity: Option<f64>,
+    /// Median grain size, mm [default 0.2].
+    #[arg(long)]
+    d50: Option<f64>,
+    /// Sorting sigma_phi, phi units [default 0.5].
+    #[arg(long)]
+    sorting: Option<f64>,
+    /// Current direction, degrees counter-clockwise from +x [default 0].
+    #[arg(long, allow_hyphen_values = true)]
+    current_angle: Option<f64>,
+    /// Current speed, m/s [default 0.5].
+    #[arg(long)]
+    current_speed: Option<f64>,
+    /// Wave period, steps (0 = no wave) [default 0].
+    #[arg(long)]
+    wave_period: Option<f64>,
+    /// Wave orbital speed amplitude, m/s [default 0].
+    #[arg(long)]
+    wave_amplitude: Option<f64>,
+    /// Avalanche angle alpha, degrees [default 32].
+    #[arg(long)]
+    avalanche_angle: Option<f64>,
+    /// Stoss stability angle beta, degrees [default 7].
+    #[arg(long)]
+    stoss_angle: Option<f64>,
+    /// Creep angle gamma, degrees [default 5].
+    #[arg(long)]
+    creep_angle: Option<f64>,
+    /// Acoustic model: hamilton or apl-uw [default hamilton].
+    #[arg(long)]
+    acoustics: Option<AcousticModel>,
+    /// Seed of the random stream [default 1].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Steps at which to keep the elevation (comma-separated; default: 0 and the last step).
+    #[arg(long, value_delimiter = ',')]
+    snapshots: Option<Vec<u64>>,
+    /// Fields to write (comma-separated): elevation, grain_size, porosity, density,
+    /// sound_speed, impedance [default: all; without porosity for apl-uw].
+    #[arg(long, value_delimiter = ',')]
+    fields: Option<Vec<Field>>,
+    /// Output format: netcdf or npy.
+    #[arg(long, default_value = "netcdf")]
+    format: Format,
+    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Print one JSON summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+    /// Print the parameters as a scene file and exit.
+    #[arg(long)]
+    print_scenario: bool,
+}
+
+fn params(a: &Args) -> Result<RippleParams> {
+    let mut p = match &a.scenario {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            let p: RippleParams = toml::from_str(&text)
+                .map_err(|e| anyhow::anyhow!("scene file {}: {e}", path.display()))?;
+            p
+        }
+        None => RippleParams::default(),
+    };
+    macro_rules! set {
+        ($($f:ident),+) => { $(if let Some(v) = a.$f.clone() { p.$f = v; })+ };
+    }
+    set!(
+        mode,
+        abstraction,
+        nx,
+        ny,
+        layers,
+        bin_size,
+        layer_thickness,
+        steps,
+        activity,
+        d50,
+        sorting,
+        current_angle,
+        current_speed,
+        wave_period,
+        wave_amplitude,
+        avalanche_angle,
+        stoss_angle,
+        creep_angle,
+        acoustics,
+        seed
+    );
+    if p.mode == Mode::TwoD {
+        p.ny = 1;
+    }
+    p.validate()?;
+    Ok(p)
+}
 
 /// Runs the subcommand.
-pub fn run(_a: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+pub fn run(a: Args) -> Result<()> {
+    let p = params(&a)?;
+    if a.print_scenario {
+        print!("{}", p.to_toml());
+        return Ok(());
+    }
+    let mut fields: Vec<Field> = match &a.fields {
+        Some(f) => f.clone(),
+        None => Field::ALL
+            .into_iter()
+            .filter(|f| !(p.acoustics == AcousticModel::AplUw && *f == Field::Porosity))
+            .collect(),
+    };
+    fields.dedup();
+    let mut seen = Vec::new();
+    fields.retain(|f| {
+        let new = !seen.contains(f);
+        seen.push(*f);
+        new
+    });
+    let spec = OutputSpec {
+        fields,
+        format: a.format,
+    };
+    spec.validate(p.acoustics)?;
+    let times: Vec<u64> = match &a.snapshots {
+        Some(t) => t.clone(),
+        None => vec![0, p.steps],
+    };
+    if let Some(&t) = times.iter().find(|&&t| t > p.steps) {
+        bail!(
+            "snapshots = {t} is out of range: expected steps in [0, steps = {}]",
+            p.steps
+        );
+    }
+
+    let start = Instant::now();
+    let mut r = Ripple::new(&p)?;
+    let setup_s = start.elapsed().as_secs_f64();
+    let bar = ProgressBar::with_draw_target(Some(p.steps.max(1)), ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("ripple {}x{}x{}", p.nx, p.rows(), p.layers));
+    let silent = a.quiet || a.json;
+    let mut shown = false;
+    let snaps = run_recording(&mut r, p.steps, &times, |done| {
+        if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
+            bar.set_draw_target(ProgressDrawTarget::stderr());
+            shown = true;
+        }
+        if done % 16 == 0 || done == p.steps {
+            bar.set_position(done);
+        }
+    });
+    bar.finish_and_clear();
+    let elapsed = start.elapsed().as_secs_f64();
+
+    let mut written = Vec::new();
+    if let Some(out) = &a.out {
+        match spec.format {
+            Format::NetCdf => {
+                write_netcdf(out, &r, &snaps, &spec)?;
+                written.push(out.clone());
+            }
+            Format::Npy => written.extend(write_npy(out, &r, &snaps, &spec)?),
+        }
+    }
+    let an = Analysis::of(&r);
+    let s = r.stats();
+    if a.json {
+        let num = |v: f64| {
+            if v.is_finite() {
+                serde_json::json!(v)
+            } else {
+                serde_json::Value::Null
+            }
+        };
+        let v = serde_json::json!({
+            "steps": s.steps,
+            "automata": r.automata(),
+            "activations": s.activations,
+            "elapsed_s": elapsed,
+            "wavelength_m": num(an.wavelength_m),
+            "crest_normal_deg": num(an.crest_normal_deg),
+            "height_m": num(an.height_m),
+            "ripple_index": num(an.ripple_index),
+            "lee_slope_deg": num(an.lee_slope_deg),
+            "stoss_slope_deg": num(an.stoss_slope_deg),
+            "mass_change": r.mass_change(),
+            "d50_crest_mm": num(an.d50_crest_mm),
+            "d50_trough_mm": num(an.d50_trough_mm),
+            "setup_s": setup_s,
+            "steps_per_s": s.steps as f64 / (elapsed - setup_s).max(1e-9),
+            "picks": s.picks,
+            "rolls": s.rolls,
+            "hops": s.hops,
+            "avalanches": s.avalanches,
+            "creeps": s.creeps,
+            "bytes_per_automaton": r.bytes_per_automaton(),
+            "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        });
+        println!("{}", serde_json::to_string(&v)?);
+    } else if !a.quiet {
+        eprintln!(
+            "ripple: {} steps, {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
+            s.steps,
+            r.automata(),
+            s.activations,
+            an.wavelength_m,
+            an.height_m,
+            an.ripple_index,
+            an.lee_slope_deg,
+            an.stoss_slope_deg,
+            an.crest_normal_deg,
+            an.d50_crest_mm,
+            an.d50_trough_mm,
+            r.mass_change()
+        );
+        for w in &written {
+            eprintln!("wrote {}", w.display());
+        }
+    }
+    Ok(())
 }

@@ -1,0 +1,89 @@
+//! The sand-ripple volume generator of Staelens, Dupont & Henriet ("Sand ripple volume
+//! generator for underwater acoustic models, a cellular automaton Monte-Carlo approach"),
+//! on the engine's square 8-neighbour torus.
+//!
+//! Principal types:
+//! - [`RippleParams`] ([`params`]): every parameter, unit and default; TOML scenes.
+//! - [`Ripple`] ([`model`]): the run: a [`SandVolume`] ([`volume`]) of columns of automata,
+//!   each with a grain-size class ([`GrainClasses`], [`grain`]) and a porosity code
+//!   ([`Compaction`], [`compaction`]); the water volume ([`WaterVolume`], [`Flow`],
+//!   [`water`], Sect. 2.3) or the shadow rule of Eq. (3); the rules ([`rules`]: roll/saltation
+//!   Eqs. 1-5 and 7-8, avalanche Eq. 6, creep Eqs. 9-10).
+//! - [`Analysis`] ([`spectrum`]): wavelength and crest orientation from the 2-D spectrum,
+//!   height, ripple index, slopes, crest/trough grain size.
+//! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
+//! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically.
+//! - `figures` (feature `plot`): the paper's Figs. 2, 3, 4, 7, 8 and an error-versus-time
+//!   chart, listed in [`FIGURES`].
+//!
+//! Automata are moved, never created or destroyed: the number of automata and the mass of
+//! every grain-size class are conserved exactly ([`Ripple::mass_change`]). After every step no
+//! slope between Moore neighbours exceeds the avalanche angle ([`Ripple::steep_pair`]).
+
+pub mod acoustics;
+pub mod compaction;
+#[cfg(feature = "plot")]
+pub mod figures;
+pub mod grain;
+pub mod model;
+pub mod output;
+pub mod params;
+pub mod rules;
+pub mod spectrum;
+pub mod volume;
+pub mod water;
+
+pub use compaction::Compaction;
+pub use grain::GrainClasses;
+pub use model::{Ripple, RippleStats};
+pub use output::{Field, Format, OutputSpec};
+pub use params::{Abstraction, AcousticModel, Mode, RippleParams};
+pub use spectrum::Analysis;
+pub use volume::{Automaton, SandVolume};
+pub use water::{Flow, WaterVolume};
+
+/// The crate version, recorded in every output.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The figures of this model, made by `cellsurf figures`.
+#[cfg(feature = "plot")]
+pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+
+/// Errors of the ripple model.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum RippleError {
+    /// A parameter is out of range.
+    #[error("{parameter} = {value} is out of range: expected {expected}")]
+    Range {
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid range.
+        expected: String,
+    },
+    /// A name is not known.
+    #[error("unknown {parameter} '{value}': expected {expected}")]
+    Unknown {
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid names.
+        expected: &'static str,
+    },
+    /// The lattice could not be built.
+    #[error("lattice: {0}")]
+    Lattice(String),
+    /// A scene file could not be parsed.
+    #[error("scene file: {0}")]
+    Toml(String),
+    /// Writing an output failed.
+    #[error("writing {path}: {reason}")]
+    Output {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+}

@@ -1,0 +1,400 @@
+//! [`RippleParams`]: every parameter of a ripple run, with its unit, default and valid range,
+//! read from a TOML scene (`deny_unknown_fields`) or set by `cellsurf ripple`.
+//!
+//! Defaults give the paper's Fig. 3 situation: a rough, flat, moderately well sorted fine-sand
+//! bed (d50 = 0.2 mm) under a steady current along +x, evolving into a current-ripple field.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use super::RippleError;
+
+/// One section (2-D, Sect. 2.1 of the paper) or a whole volume (3-D, Sect. 2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Mode {
+    /// A single row of columns parallel to the current (`ny` is forced to 1; the current runs
+    /// along +x, or -x while a wave reverses it; `current_angle` is ignored).
+    #[serde(rename = "2d")]
+    TwoD,
+    /// The full `nx` x `ny` torus with the 8-neighbour rules (Eqs. 6-10).
+    #[serde(rename = "3d")]
+    ThreeD,
+}
+
+/// The paper's "abstraction levels" of the hydrodynamics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Abstraction {
+    /// The sliced water volume of Sect. 2.3 ([`super::water`]).
+    Slices,
+    /// The shadow rule of Eq. (3): no motion where `h_x - h_{x-1} < 0`.
+    Shadow,
+}
+
+/// How bulk density and sound speed are obtained ([`super::acoustics`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AcousticModel {
+    /// Mixture-rule density from porosity; Hamilton & Bachman (1982) speed by grain size,
+    /// corrected for porosity with Wood's (1930) relation.
+    #[serde(rename = "hamilton")]
+    Hamilton,
+    /// APL-UW TR 9407 (1994) regressions on mean grain size: an acoustic look-alike preset that
+    /// ignores porosity (so it cannot be written together with a porosity field).
+    #[serde(rename = "apl-uw")]
+    AplUw,
+}
+
+macro_rules! named_enum {
+    ($t:ty, $param:literal, $expected:literal, $($name:literal => $v:expr),+) => {
+        impl $t {
+            /// The name used on the command line and in scene files.
+            pub fn name(self) -> &'static str {
+                $(if self == $v { return $name; })+
+                unreachable!()
+            }
+        }
+        impl FromStr for $t {
+            type Err = RippleError;
+            fn from_str(s: &str) -> Result<Self, RippleError> {
+                match s {
+                    $($name => Ok($v),)+
+                    _ => Err(RippleError::Unknown {
+                        parameter: $param,
+                        value: s.to_string(),
+                        expected: $expected,
+                    }),
+                }
+            }
+        }
+        impl fmt::Display for $t {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+named_enum!(Mode, "mode", "2d or 3d", "2d" => Mode::TwoD, "3d" => Mode::ThreeD);
+named_enum!(Abstraction, "abstraction", "slices or shadow",
+    "slices" => Abstraction::Slices, "shadow" => Abstraction::Shadow);
+named_enum!(AcousticModel, "acoustics", "hamilton or apl-uw",
+    "hamilton" => AcousticModel::Hamilton, "apl-uw" => AcousticModel::AplUw);
+
+/// Every parameter of a ripple run. Lengths in metres unless stated; angles in degrees; times
+/// in model steps (one step = `activity x automata` Monte Carlo activations).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RippleParams {
+    /// 2-D section or 3-D volume. Default `3d`.
+    pub mode: Mode,
+    /// Hydrodynamics: `slices` (Sect. 2.3) or `shadow` (Eq. 3). Default `slices`.
+    pub abstraction: Abstraction,
+    /// Columns along x, >= 3. Default 128.
+    pub nx: usize,
+    /// Columns along y, >= 3 in 3-D (forced to 1 in 2-D). Default 64.
+    pub ny: usize,
+    /// Mean initial sand thickness, in automata per column, 1..=4096. Default 30.
+    pub layers: usize,
+    /// Extra capacity of a column above `layers`, in automata; 0 = automatic
+    /// (`max(layers, 48)`). A column that is full accepts no grain. Default 0.
+    pub headroom: usize,
+    /// Horizontal bin size Delta x, m, > 0. Default 0.005 (5 mm).
+    pub bin_size: f64,
+    /// Layer thickness gd (height of one automaton), m, > 0 and <= `bin_size`.
+    /// Default 0.0005 (0.5 mm).
+    pub layer_thickness: f64,
+    /// Steps to run. Default 3000.
+    pub steps: u64,
+    /// Fraction of the automata triggered per step (the paper's 0.1 %), in (0, 1].
+    /// Default 0.001.
+    pub activity: f64,
+    /// Median grain size d50, mm, 0.01..=10. Default 0.2.
+    pub d50: f64,
+    /// Sorting sigma_phi (standard deviation of phi = -log2(d / 1 mm)), 0..=4. Default 0.5.
+    pub sorting: f64,
+    /// Direction the current flows towards, degrees counter-clockwise from +x. Default 0.
+    pub current_angle: f64,
+    /// Steady current speed in the free stream, m/s, 0..=10. Default 0.5.
+    pub current_speed: f64,
+    /// Period of the oscillating (wave) flow component along `current_angle`, steps;
+    /// 0 = no wave. Default 0.
+    pub wave_period: f64,
+    /// Amplitude of the oscillating flow component, m/s, 0..=10. Default 0.
+    pub wave_amplitude: f64,
+    /// Avalanche angle alpha (Eq. 6), degrees, in (0, 90). Default 32.
+    pub avalanche_angle: f64,
+    /// Stoss stability angle beta (Eq. 3), degrees, in [0, avalanche_angle]. Default 7.
+    pub stoss_angle: f64,
+    /// Creep angle gamma (Eqs. 9-10), degrees, in [0, 90). Default 5.
+    pub creep_angle: f64,
+    /// Seed of the random stream. Default 1.
+    pub seed: u64,
+    /// Initial roughness: each column's height is `layers` plus a uniform integer in
+    /// `-roughness..=roughness` automata (then relaxed below alpha). Default 3.
+    pub roughness: usize,
+    /// Rolling friction coefficient mu of E_friction = mu m g' Delta s (Eq. 4), > 0. Default 0.6.
+    pub friction: f64,
+    /// Flat-bed travel of a grain per unit excess Shields stage, in bins, > 0 (sets E_x).
+    /// Default 1.5.
+    pub hop_length: f64,
+    /// Bed drag coefficient C_D of tau = rho_w C_D u^2 (Soulsby 1997), > 0. Default 0.0025.
+    pub drag_coefficient: f64,
+    /// Water slices: slice thickness, in automata (layers), >= 1. Default 2.
+    pub slice_layers: usize,
+    /// Water slices: length behind an obstruction where a slice's speed is zero, bins per slice
+    /// the obstruction rises above the slice. Default 1.
+    pub shadow_length: usize,
+    /// Water slices: length over which a slice's speed recovers after the shadow, bins per
+    /// slice the obstruction rises above the slice. Default 1.
+    pub recovery_length: usize,
+    /// Water slices: delay in space with which a slice drags the one below, bins. Default 1.
+    pub drag_delay: usize,
+    /// Compaction: fraction of the excess porosity (above the dense packing) removed from each
+    /// of the `compaction_depth` automata under a newly deposited one, in [0, 1]. Default 0.1.
+    pub compaction_rate: f64,
+    /// Compaction: how many automata under a deposit are compacted, 0..=64. Default 4.
+    pub compaction_depth: usize,
+    /// Acoustic model: `hamilton` or `apl-uw`. Default `hamilton`.
+    pub acoustics: AcousticModel,
+}
+
+impl Default for RippleParams {
+    fn default() -> Self {
+        RippleParams {
+            mode: Mode::ThreeD,
+            abstraction: Abstraction::Slices,
+            nx: 128,
+            ny: 64,
+            layers: 30,
+            headroom: 0,
+            bin_size: 0.005,
+            layer_thickness: 0.0005,
+            steps: 3000,
+            activity: 0.001,
+            d50: 0.2,
+            sorting: 0.5,
+            current_angle: 0.0,
+            current_speed: 0.5,
+            wave_period: 0.0,
+            wave_amplitude: 0.0,
+            avalanche_angle: 32.0,
+            stoss_angle: 7.0,
+            creep_angle: 5.0,
+            seed: 1,
+            roughness: 3,
+            friction: 0.6,
+            hop_length: 1.5,
+            drag_coefficient: 0.0025,
+            slice_layers: 2,
+            shadow_length: 1,
+            recovery_length: 1,
+            drag_delay: 1,
+            compaction_rate: 0.1,
+            compaction_depth: 4,
+            acoustics: AcousticModel::Hamilton,
+        }
+    }
+}
+
+fn range(parameter: &'static str, value: impl fmt::Display, expected: &str) -> RippleError {
+    RippleError::Range {
+        parameter,
+        value: value.to_string(),
+        expected: expected.to_string(),
+    }
+}
+
+fn check_f(
+    parameter: &'static str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    lo_open: bool,
+    hi_open: bool,
+) -> Result<(), RippleError> {
+    let ok = v.is_finite()
+        && (if lo_open { v > lo } else { v >= lo })
+        && (if hi_open { v < hi } else { v <= hi });
+    if ok {
+        Ok(())
+    } else {
+        let expected = format!(
+            "a number in {}{lo}, {hi}{}",
+            if lo_open { "(" } else { "[" },
+            if hi_open { ")" } else { "]" }
+        );
+        Err(range(parameter, v, &expected))
+    }
+}
+
+impl RippleParams {
+    /// Reads a TOML scene: the same keys as the fields, unknown keys rejected, missing keys
+    /// default. The result is validated.
+    pub fn from_toml(text: &str) -> Result<Self, RippleError> {
+        let p: RippleParams = toml::from_str(text).map_err(|e| RippleError::Toml(e.to_string()))?;
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The parameters as a TOML scene.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+
+    /// Rows actually simulated: 1 in 2-D, `ny` in 3-D.
+    pub fn rows(&self) -> usize {
+        match self.mode {
+            Mode::TwoD => 1,
+            Mode::ThreeD => self.ny,
+        }
+    }
+
+    /// Capacity of a column, in automata.
+    pub fn capacity(&self) -> usize {
+        let head = if self.headroom == 0 {
+            self.layers.max(48)
+        } else {
+            self.headroom
+        };
+        self.layers + self.roughness + head
+    }
+
+    /// Checks every parameter; the error names the parameter, its value and the valid range.
+    pub fn validate(&self) -> Result<(), RippleError> {
+        if !(3..=1 << 16).contains(&self.nx) {
+            return Err(range("nx", self.nx, "an integer in [3, 65536]"));
+        }
+        if self.mode == Mode::ThreeD && !(3..=1 << 16).contains(&self.ny) {
+            return Err(range("ny", self.ny, "an integer in [3, 65536] in 3-D mode"));
+        }
+        if !(1..=4096).contains(&self.layers) {
+            return Err(range("layers", self.layers, "an integer in [1, 4096]"));
+        }
+        if self.headroom > 16384 {
+            return Err(range("headroom", self.headroom, "an integer in [0, 16384]"));
+        }
+        if self.roughness > 1024 {
+            return Err(range(
+                "roughness",
+                self.roughness,
+                "an integer in [0, 1024]",
+            ));
+        }
+        if self.capacity() > u16::MAX as usize {
+            return Err(range(
+                "headroom",
+                self.capacity(),
+                "layers + roughness + headroom at most 65535",
+            ));
+        }
+        let cells = self.nx as u128 * self.rows() as u128 * self.capacity() as u128;
+        if cells > (1u128 << 33) {
+            return Err(range(
+                "nx",
+                self.nx,
+                "nx x ny x (layers + roughness + headroom) at most 2^33 automata slots",
+            ));
+        }
+        check_f("bin_size", self.bin_size, 0.0, 100.0, true, false)?;
+        check_f(
+            "layer_thickness",
+            self.layer_thickness,
+            0.0,
+            self.bin_size,
+            true,
+            false,
+        )?;
+        if self.steps > 1 << 40 {
+            return Err(range("steps", self.steps, "an integer in [0, 2^40]"));
+        }
+        check_f("activity", self.activity, 0.0, 1.0, true, false)?;
+        check_f("d50", self.d50, 0.01, 10.0, false, false)?;
+        check_f("sorting", self.sorting, 0.0, 4.0, false, false)?;
+        check_f(
+            "current_angle",
+            self.current_angle,
+            -3600.0,
+            3600.0,
+            false,
+            false,
+        )?;
+        check_f("current_speed", self.current_speed, 0.0, 10.0, false, false)?;
+        check_f("wave_period", self.wave_period, 0.0, 1e12, false, false)?;
+        if self.wave_period > 0.0 && self.wave_period < 2.0 {
+            return Err(range(
+                "wave_period",
+                self.wave_period,
+                "0 (no wave) or at least 2 steps",
+            ));
+        }
+        check_f(
+            "wave_amplitude",
+            self.wave_amplitude,
+            0.0,
+            10.0,
+            false,
+            false,
+        )?;
+        check_f(
+            "avalanche_angle",
+            self.avalanche_angle,
+            0.0,
+            90.0,
+            true,
+            true,
+        )?;
+        check_f(
+            "stoss_angle",
+            self.stoss_angle,
+            0.0,
+            self.avalanche_angle,
+            false,
+            false,
+        )?;
+        check_f("creep_angle", self.creep_angle, 0.0, 90.0, false, true)?;
+        check_f("friction", self.friction, 0.0, 100.0, true, false)?;
+        check_f("hop_length", self.hop_length, 0.0, 1e4, true, false)?;
+        check_f(
+            "drag_coefficient",
+            self.drag_coefficient,
+            0.0,
+            1.0,
+            true,
+            false,
+        )?;
+        if !(1..=4096).contains(&self.slice_layers) {
+            return Err(range(
+                "slice_layers",
+                self.slice_layers,
+                "an integer in [1, 4096]",
+            ));
+        }
+        for (name, v) in [
+            ("shadow_length", self.shadow_length),
+            ("recovery_length", self.recovery_length),
+            ("drag_delay", self.drag_delay),
+        ] {
+            if v > 64 {
+                return Err(range(name, v, "an integer in [0, 64]"));
+            }
+        }
+        check_f(
+            "compaction_rate",
+            self.compaction_rate,
+            0.0,
+            1.0,
+            false,
+            false,
+        )?;
+        if self.compaction_depth > 64 {
+            return Err(range(
+                "compaction_depth",
+                self.compaction_depth,
+                "an integer in [0, 64]",
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,539 @@
+//! The sedimentological rules of the paper (Sects. 2.1-2.2), as methods of
+//! [`super::Ripple`]: triggering, roll/saltation (Eqs. 1-5, 7-8), avalanche (Eq. 6) and creep
+//! (Eqs. 9-10).
+//!
+//! **Directions.** The rules are written for a current along +x; here "forward" is the Moore
+//! octant `k` nearest the flow direction, drawn per activation by stochastic rounding between
+//! the two octants around the flow angle (so the mean direction is the flow's, for any angle).
+//! The three forward cells of Eq. (8) are octants `k-1, k, k+1`; the upstream cell `x-1` is
+//! octant `k+4`; the creep sets of Eqs. (9)-(10) are `k+3, k+4, k+5` (upstream) and
+//! `k-2, k+2, k` (lateral and forward, the "reduced von Neumann neighbourhood").
+//! In 2-D only `k` and `k+4` exist.
+//!
+//! **Exposure (Eq. 3).** A grain is triggered only when the water reaches its column (a bed
+//! speed above zero: [`super::water`], or with the `shadow` abstraction `h_x - h_{x-1} >= 0`), it is not held
+//! by the stoss stability rule, and the flow exceeds its threshold of motion (E_x > 0,
+//! [`super::grain`]). The stoss rule reads Eq. (3)'s second case as: E_x = 0 when the grain lies
+//! at a concave foot (`h_x - h_{x-1} < h_{x+1} - h_x`) of a rise ahead steeper than beta
+//! (`(h_{x+1} - h_x) gd / Delta x > tan beta`). (The printed `(h_x - h_{x+1}) / Delta x < beta`
+//! is always true at a concave foot; we take the rise, our interpretation.)
+//!
+//! **Roll/saltation.** The grain leaves its column and, bin by bin, moves to the cheapest of
+//! the forward cells, spending Delta e = E_friction + E_gravity = m g' (mu Delta s + Delta h)
+//! (Eq. 4), with Delta s = sqrt(Delta x^2 + Delta y^2 + (Delta h + gd)^2) (Eqs. 1 and 7, the
+//! second Eq. 1 of READING.md) and Delta h the rise of the grain's top. A descent costs at least
+//! a tenth of the flat friction (`0.1 mu Delta x`, so a grain never gains energy: our choice).
+//! It stops before the hop that would make E exceed E_x (Eq. 3: E <= E_x), when it enters the
+//! current shadow (it "settles down in the current shadow"), or after `nx + ny` hops. Energies
+//! are in units of m g': the mass enters through E_x (see [`super::grain`]).
+//!
+//! **Avalanche (Eq. 6).** After every move, columns whose slope to a Moore neighbour exceeds
+//! alpha shed their top automaton to the steepest such neighbour, repeatedly, until no slope
+//! exceeds alpha. A move needs a difference of at least 2 automata (a 1-automaton step is the
+//! resolution of the bed, and moving it would just swap the two heights), so the sum of squared
+//! heights strictly decreases: the relaxation always ends.
+//!
+//! **Creep (Eqs. 9-10).** An exposed grain that cannot afford its first hop creeps, without
+//! spending energy, to the lowest cell of the reduced von Neumann set when both Booleans hold:
+//! `min(upstream three) <= h - gd - gamma Delta s` and `min(settle set) <= h - gd - gamma Delta s`
+//! (heights in automata; gamma Delta s read as `tan(gamma) Delta x`).
+
+use rand::RngExt;
+
+use super::compaction::Deposit;
+use super::model::Ripple;
+use super::params::Abstraction;
+use super::water::Flow;
+
+/// The ways the grain can go from a cell, as octant offsets from the forward octant.
+const FORWARD_3D: [usize; 3] = [7, 0, 1];
+
+/// The Moore offsets by octant, as listed by the lattice engine for `Square8`.
+const SQ8: [(i32, i32); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+impl Ripple {
+    /// The column in octant `k` (0 = +x, counter-clockwise, the order of the engine's
+    /// [`crate::lattice::Neighbourhood::Square8`] offsets) of column `c`, wrapped on the torus
+    /// (in 2-D only octants 0 and 4 exist).
+    #[inline(always)]
+    pub(crate) fn nb(&self, c: usize, k: usize) -> usize {
+        let (dx, dy) = SQ8[k % 8];
+        let (nx, ny) = (self.nx, self.ny);
+        let (x, y) = (c % nx, c / nx);
+        let x2 = match dx {
+            1 if x + 1 == nx => 0,
+            1 => x + 1,
+            -1 if x == 0 => nx - 1,
+            -1 => x - 1,
+            _ => x,
+        };
+        let y2 = if self.two_d {
+            y
+        } else {
+            match dy {
+                1 if y + 1 == ny => 0,
+                1 => y + 1,
+                -1 if y == 0 => ny - 1,
+                -1 => y - 1,
+                _ => y,
+            }
+        };
+        y2 * nx + x2
+    }
+
+    /// Horizontal distance to octant `k`, m.
+    #[inline]
+    fn dist(&self, k: usize) -> f64 {
+        if k % 2 == 1 {
+            self.p.bin_size * std::f64::consts::SQRT_2
+        } else {
+            self.p.bin_size
+        }
+    }
+
+    /// The forward octant for one activation (stochastic rounding of the flow angle).
+    #[inline]
+    pub(crate) fn pick_octant(&mut self, flow: &Flow) -> usize {
+        if self.two_d {
+            let c = flow.angle.cos();
+            return if c >= 0.0 { 0 } else { 4 };
+        }
+        let k0 = flow.octant.floor();
+        let frac = flow.octant - k0;
+        let up = frac > 0.0 && self.rng.random::<f64>() < frac;
+        (k0 as usize + up as usize) % 8
+    }
+
+    /// Speed fraction at the bed of column `c` (0: current shadow), for forward octant `k`.
+    #[inline]
+    pub(crate) fn bed_speed(&self, c: usize, k: usize, flow: &Flow) -> f64 {
+        match self.p.abstraction {
+            Abstraction::Shadow => {
+                // Eq. (3): E_x = 0 <=> h_x - h_{x-1} < 0.
+                let up = self.nb(c, k + 4);
+                if self.vol.height(c) < self.vol.height(up) {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            Abstraction::Slices => {
+                let (x, y) = (c % self.nx, c / self.nx);
+                self.water.bed_speed(
+                    self.vol.heights(),
+                    self.nx,
+                    self.ny,
+                    x,
+                    y,
+                    self.hmax_bound,
+                    flow,
+                )
+            }
+        }
+    }
+
+    /// Eq. (3), second case (see the module documentation): the grain in `c` is held at the
+    /// concave foot of a rise steeper than beta.
+    #[inline]
+    pub(crate) fn stoss_stable(&self, c: usize, k: usize) -> bool {
+        let h = self.vol.height(c) as f64;
+        let up = self.vol.height(self.nb(c, k + 4)) as f64;
+        let dn = self.vol.height(self.nb(c, k)) as f64;
+        let rise = dn - h;
+        (h - up) < rise && rise > self.beta_layers[k % 2]
+    }
+
+    /// E_x of the top grain of `c` in units of m g' (m): 0 when it is not exposed.
+    pub(crate) fn budget(&self, c: usize, k: usize, flow: &Flow) -> f64 {
+        if self.vol.height(c) == 0 {
+            return 0.0;
+        }
+        // Heights first (cache-resident); the automaton itself only for exposed grains.
+        let s = self.bed_speed(c, k, flow);
+        if s <= 0.0 || self.stoss_stable(c, k) {
+            return 0.0;
+        }
+        let Some(a) = self.vol.top(c) else {
+            return 0.0;
+        };
+        let stage = self
+            .classes
+            .excess_stage(a.class(), s * flow.speed, self.p.drag_coefficient);
+        if stage <= 0.0 {
+            return 0.0;
+        }
+        self.p.friction * self.p.bin_size * self.p.hop_length * stage
+    }
+
+    /// Monte Carlo trigger of column `c`: true when its top grain was exposed (an activation).
+    pub(crate) fn trigger(&mut self, c: usize, flow: &Flow) -> bool {
+        if self.vol.height(c) == 0 {
+            return false;
+        }
+        let k = self.pick_octant(flow);
+        let budget = self.budget(c, k, flow);
+        if budget <= 0.0 {
+            return false;
+        }
+        if !self.roll(c, k, budget, flow) {
+            self.creep(c, k);
+        }
+        true
+    }
+
+    /// Energy Delta e (units of m g', m) of one space step to octant `o` rising `dh` metres
+    /// (Eqs. 1, 4, 7).
+    #[inline]
+    pub(crate) fn delta_e(&self, o: usize, dh: f64) -> f64 {
+        let dx = self.dist(o);
+        let gd = self.p.layer_thickness;
+        let ds = delta_s(dx, dh, gd);
+        (self.p.friction * ds + dh).max(0.1 * self.p.friction * dx)
+    }
+
+    /// Roll/saltation of the top grain of `c` with budget `budget` (Eqs. 1-5, 7-8); false when
+    /// it could not afford a single hop (it then stays).
+    pub(crate) fn roll(&mut self, c: usize, k: usize, budget: f64, flow: &Flow) -> bool {
+        let gd = self.p.layer_thickness;
+        let start_level = self.vol.height(c);
+        let Some(a) = self.vol.pop(c) else {
+            return false;
+        };
+        let mut p = c;
+        let mut level = start_level; // top of the moving grain, automata
+        let mut spent = 0.0;
+        let mut hops = 0usize;
+        let max_hops = self.nx + self.ny;
+        let options: &[usize] = if self.two_d { &[0] } else { &FORWARD_3D };
+        let first = if options.len() > 1 {
+            self.rng.random_range(0..options.len())
+        } else {
+            0
+        };
+        loop {
+            let mut best: Option<(f64, usize, usize)> = None;
+            for i in 0..options.len() {
+                let o = (k + options[(first + i) % options.len()]) % 8;
+                let n = self.nb(p, o);
+                if self.vol.is_full(n) {
+                    continue;
+                }
+                let target = self.vol.height(n) + 1;
+                let dh = (target as f64 - level as f64) * gd;
+                let de = self.delta_e(o, dh);
+                if best.is_none_or(|(b, _, _)| de < b) {
+                    best = Some((de, n, target));
+                }
+            }
+            let Some((de, n, target)) = best else { break };
+            if spent + de > budget {
+                break;
+            }
+            spent += de;
+            p = n;
+            level = target;
+            hops += 1;
+            if hops >= max_hops || self.bed_speed(p, k, flow) <= 0.0 {
+                break;
+            }
+        }
+        if hops == 0 {
+            self.vol.push(c, a);
+            return false;
+        }
+        self.deposit(p, a, Deposit::Rolled);
+        self.stats.rolls += 1;
+        self.stats.hops += hops as u64;
+        self.relax(&[c as u32], &[p as u32]);
+        true
+    }
+
+    /// Puts `a` on column `c` with the porosity of `how` and compacts the automata beneath it.
+    /// The column must not be full.
+    pub(crate) fn deposit(&mut self, c: usize, a: super::volume::Automaton, how: Deposit) {
+        let code = self.compaction.deposit_code(how);
+        let ok = self.vol.push(c, a.with_porosity_code(code));
+        debug_assert!(ok, "deposit on a full column");
+        let h = self.vol.height(c);
+        self.hmax_bound = self.hmax_bound.max(h);
+        let lo = h.saturating_sub(1 + self.compaction.depth);
+        for z in lo..h.saturating_sub(1) {
+            let b = self.vol.get(c, z);
+            let buried = self.compaction.bury(b.porosity_code());
+            self.vol.set(c, z, b.with_porosity_code(buried));
+        }
+    }
+
+    /// Avalanche relaxation (Eq. 6) after the columns `lowered` lost and `raised` gained an
+    /// automaton: until no slope exceeds alpha. A lowered column can only steepen the slopes of
+    /// its neighbours towards it, a raised one only its own slopes, so those are the columns
+    /// checked; every avalanche move queues the same way.
+    pub(crate) fn relax(&mut self, lowered: &[u32], raised: &[u32]) {
+        let mut stack = std::mem::take(&mut self.stack);
+        stack.clear();
+        for &s in lowered {
+            self.lattice
+                .for_each_neighbour(s as usize, |n| stack.push(n as u32));
+        }
+        stack.extend_from_slice(raised);
+        while let Some(c) = stack.pop() {
+            let c = c as usize;
+            while let Some(n) = self.steepest_descent(c) {
+                let a = self.vol.pop(c).expect("a steep column has sand");
+                self.deposit(n, a, Deposit::Avalanche);
+                self.stats.avalanches += 1;
+                stack.push(n as u32);
+                self.lattice.for_each_neighbour(c, |m| stack.push(m as u32));
+            }
+        }
+        self.stack = stack;
+    }
+
+    /// Creep (Eqs. 9-10) of the top grain of `c` for forward octant `k`; true when it moved.
+    pub(crate) fn creep(&mut self, c: usize, k: usize) -> bool {
+        let h = self.vol.height(c);
+        if h == 0 {
+            return false;
+        }
+        let limit = h as f64 - 1.0 - self.gamma_layers;
+        let (up, set): (&[usize], &[usize]) = if self.two_d {
+            (&[4], &[0])
+        } else {
+            (&[3, 4, 5], &[6, 2, 0])
+        };
+        let up_min = up
+            .iter()
+            .map(|&o| self.vol.height(self.nb(c, k + o)))
+            .min()
+            .unwrap_or(0);
+        if up_min as f64 > limit {
+            return false; // Eq. (9): not exposed enough
+        }
+        let first = self.rng.random_range(0..set.len());
+        let mut best: Option<(usize, usize)> = None;
+        for i in 0..set.len() {
+            let n = self.nb(c, k + set[(first + i) % set.len()]);
+            let hn = self.vol.height(n);
+            if n != c && !self.vol.is_full(n) && best.is_none_or(|(b, _)| hn < b) {
+                best = Some((hn, n));
+            }
+        }
+        let Some((hn, n)) = best else { return false };
+        if hn as f64 > limit {
+            return false; // Eq. (10): nowhere to settle
+        }
+        let a = self.vol.pop(c).expect("checked above");
+        self.deposit(n, a, Deposit::Rolled);
+        self.stats.creeps += 1;
+        self.relax(&[c as u32], &[n as u32]);
+        true
+    }
+}
+
+/// Eq. (1) (second form) and Eq. (7): the length of one space step,
+/// `Delta s = sqrt(Delta x^2 + (Delta h + gd)^2)` with `Delta x` the horizontal distance
+/// (including Delta y), all in metres.
+#[inline]
+pub fn delta_s(dx: f64, dh: f64, gd: f64) -> f64 {
+    (dx * dx + (dh + gd) * (dh + gd)).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ripple::params::{Mode, RippleParams};
+
+    fn two_d(heights: &[usize], f: impl FnOnce(&mut RippleParams)) -> Ripple {
+        let mut p = RippleParams {
+            mode: Mode::TwoD,
+            nx: heights.len(),
+            ny: 1,
+            sorting: 0.0,
+            roughness: 0,
+            ..RippleParams::default()
+        };
+        f(&mut p);
+        Ripple::from_heights(&p, heights).unwrap()
+    }
+
+    #[test]
+    fn eq1_delta_s() {
+        assert!((delta_s(3.0, 3.0, 1.0) - 5.0).abs() < 1e-12);
+        assert!((delta_s(0.005, -0.0005, 0.0005) - 0.005).abs() < 1e-15);
+    }
+
+    #[test]
+    fn eq4_energy_is_friction_plus_gravity() {
+        let r = two_d(&[10; 8], |_| {});
+        let (dx, gd, mu) = (0.005, 0.0005, 0.6);
+        let up = r.delta_e(0, gd);
+        assert!((up - (mu * delta_s(dx, gd, gd) + gd)).abs() < 1e-15);
+        // uphill costs more than level, level more than downhill
+        assert!(up > r.delta_e(0, 0.0));
+        assert!(r.delta_e(0, 0.0) > r.delta_e(0, -gd));
+        // a steep descent never gives energy back: floor of a tenth of the flat friction
+        assert!((r.delta_e(0, -0.1) - 0.1 * mu * dx).abs() < 1e-15);
+        // diagonal steps (Eq. 7) are longer
+        assert!(r.delta_e(1, 0.0) > r.delta_e(0, 0.0));
+    }
+
+    #[test]
+    fn eq3_shadow_behind_a_step_down() {
+        let mut h = vec![10usize; 12];
+        h[4] = 12;
+        let r = two_d(&h, |p| p.abstraction = Abstraction::Shadow);
+        let f = r.flow_at(0);
+        assert_eq!(
+            r.bed_speed(5, 0, &f),
+            0.0,
+            "lee of the step: h_x - h_(x-1) < 0"
+        );
+        assert_eq!(r.bed_speed(4, 0, &f), 1.0);
+        assert_eq!(r.budget(5, 0, &f), 0.0);
+        assert!(r.budget(4, 0, &f) > 0.0);
+    }
+
+    #[test]
+    fn eq3_stoss_stability_beta() {
+        // a concave foot before a rise of 3 automata over one bin: 3 gd / dx = 0.3 > tan 7 deg
+        let mut h = vec![10usize; 12];
+        h[5] = 13;
+        h[6] = 13;
+        let r = two_d(&h, |p| p.abstraction = Abstraction::Shadow);
+        assert!(r.stoss_stable(4, 0));
+        let r0 = two_d(&h, |p| {
+            p.abstraction = Abstraction::Shadow;
+            p.stoss_angle = 20.0; // tan 20 = 0.36 > 0.3: not held
+        });
+        assert!(!r0.stoss_stable(4, 0));
+    }
+
+    #[test]
+    fn eq5_roll_moves_one_automaton_forward() {
+        let mut r = two_d(&[10; 16], |p| p.abstraction = Abstraction::Shadow);
+        let f = r.flow_at(0);
+        let cost = r.delta_e(0, 0.0005); // first hop onto a level neighbour rises one automaton
+        assert!(r.roll(3, 0, cost * 1.0001, &f));
+        let h: Vec<usize> = (0..16).map(|c| r.vol.height(c)).collect();
+        assert_eq!(h[3], 9);
+        assert_eq!(h[4], 11);
+        assert_eq!(r.vol.automata(), 160);
+    }
+
+    #[test]
+    fn fine_grains_travel_further_for_the_same_flow() {
+        // On a flat bed, with the budget of the flow for each grain size (Eq. 3 with E_x from
+        // the Shields stage), a fine grain hops further than a coarse one.
+        let p = RippleParams {
+            mode: Mode::TwoD,
+            nx: 200,
+            ny: 1,
+            sorting: 1.5,
+            roughness: 0,
+            hop_length: 4.0,
+            abstraction: Abstraction::Shadow,
+            ..RippleParams::default()
+        };
+        let classes = crate::ripple::GrainClasses::new(p.d50, p.sorting);
+        let travel = |phi: f64| {
+            let mut r = Ripple::from_heights(&p, &[20; 200]).unwrap();
+            let k = classes.class_of_phi(phi);
+            let a = r.vol.pop(10).unwrap();
+            r.vol
+                .push(10, crate::ripple::Automaton::new(k, a.porosity_code()));
+            let f = r.flow_at(0);
+            let b = r.budget(10, 0, &f);
+            r.roll(10, 0, b, &f);
+            (0..200).find(|&c| r.vol.height(c) == 21).unwrap_or(10)
+        };
+        let fine = travel(3.3);
+        let coarse = travel(1.3);
+        assert!(fine > coarse, "fine {fine} coarse {coarse}");
+    }
+
+    #[test]
+    fn eq8_cheapest_of_three_forward_cells() {
+        let p = RippleParams {
+            nx: 6,
+            ny: 6,
+            sorting: 0.0,
+            roughness: 0,
+            abstraction: Abstraction::Shadow,
+            ..RippleParams::default()
+        };
+        let mut h = vec![10usize; 36];
+        // from (2, 2): forward cells (3, 1), (3, 2), (3, 3); make (3, 3) the lowest.
+        h[2 * 6 + 3] = 11;
+        h[6 + 3] = 11;
+        h[3 * 6 + 3] = 6;
+        let mut r = Ripple::from_heights(&p, &h).unwrap();
+        let f = r.flow_at(0);
+        // (3, 3) is diagonal (longer Delta s, Eq. 7) but 3 automata down: the cheapest.
+        let one_hop = r.delta_e(1, -3.0 * p.layer_thickness) * 1.0001;
+        assert!(r.roll(2 * 6 + 2, 0, one_hop, &f));
+        let h: Vec<usize> = (0..36).map(|c| r.vol.height(c)).collect();
+        assert_eq!(h[3 * 6 + 3], 7, "went to the cheapest (lowest) cell: {h:?}");
+    }
+
+    #[test]
+    fn eq6_avalanche_relaxes_a_spike_below_alpha() {
+        let mut h = vec![5usize; 64];
+        h[27] = 60;
+        let p = RippleParams {
+            nx: 8,
+            ny: 8,
+            sorting: 0.0,
+            roughness: 0,
+            ..RippleParams::default()
+        };
+        let r = Ripple::from_heights(&p, &h).unwrap();
+        assert_eq!(r.vol.automata(), 63 * 5 + 60);
+        assert_eq!(r.steep_pair(), None);
+        assert!(r.vol.height(27) < 60);
+        let loose = r.compaction.codes[0];
+        assert!((0..64).any(|c| c != 27 && r.vol.top(c).unwrap().porosity_code() == loose));
+    }
+
+    #[test]
+    fn eq9_creep_needs_exposure_and_eq10_a_lower_place() {
+        // 3-D, forward +x. Column (2,2) sticks out 3 automata above its upstream cells.
+        let p = RippleParams {
+            nx: 5,
+            ny: 5,
+            sorting: 0.0,
+            roughness: 0,
+            creep_angle: 5.0, // gamma dx / gd = 0.87 automata
+            ..RippleParams::default()
+        };
+        let mut h = vec![10usize; 25];
+        h[2 * 5 + 2] = 13;
+        let mut r = Ripple::from_heights(&p, &h).unwrap();
+        assert!(r.creep(12, 0));
+        assert_eq!(r.vol.height(12), 12);
+        assert_eq!(r.vol.automata(), 25 * 10 + 3);
+        // Eq. (9) false: the upstream cells are as high as the grain.
+        let mut h2 = vec![10usize; 25];
+        for y in 1..4 {
+            h2[y * 5 + 1] = 13;
+        }
+        h2[12] = 13;
+        let mut r2 = Ripple::from_heights(&p, &h2).unwrap();
+        assert!(!r2.creep(12, 0));
+        // Eq. (10) false: nowhere lower to settle (lateral and forward cells as high).
+        let mut h3 = vec![10usize; 25];
+        for c in [12, 7, 17, 13] {
+            h3[c] = 13;
+        }
+        let mut r3 = Ripple::from_heights(&p, &h3).unwrap();
+        assert!(!r3.creep(12, 0));
+    }
+}

@@ -1,0 +1,251 @@
+//! [`Analysis`]: ripple wavelength and orientation from the 2-D spectrum of the elevation
+//! (rustfft), height, ripple index, lee and stoss slopes, and the grain size at crests and
+//! troughs.
+//!
+//! - **Wavelength and orientation**: the elevation minus its mean is transformed with a 2-D FFT
+//!   (rows then columns); the dominant wave vector is the power-weighted mean over the bins
+//!   holding at least half the largest power (one of each pair k, -k). The wavelength is
+//!   `1 / |k|` (k in cycles per metre, |k| power-averaged) and `crest_normal_deg` the direction
+//!   of k in degrees, in [0, 180) (averaged as a doubled angle: a wave vector and its opposite
+//!   are the same ripples), comparable with `current_angle` modulo 180.
+//! - **Height**: `2 sqrt(2)` times the standard deviation of the bed smoothed by the 8-cell
+//!   Moore average (the crest-to-trough height of a sinusoid of that variance).
+//! - **Slopes**: on the smoothed bed, the slope along the current direction; the lee slope is
+//!   `atan` of the mean descent where the bed descends downstream, the stoss slope `atan` of
+//!   the mean rise where it rises. On a torus both integrate to the same total, so a lee
+//!   steeper than the stoss means a shorter lee: asymmetric ripples.
+//! - **Crest and trough grain size**: the median diameter of the top automata of the columns
+//!   whose smoothed height is above mean + sigma/2 (crests) or below mean - sigma/2 (troughs).
+
+use rustfft::FftPlanner;
+use rustfft::num_complex::Complex;
+use serde::Serialize;
+
+use super::grain::median_d_mm;
+use super::model::Ripple;
+
+/// Measures of a ripple field.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Analysis {
+    /// Dominant wavelength, m.
+    pub wavelength_m: f64,
+    /// Direction of the dominant wave vector, degrees in [0, 180).
+    pub crest_normal_deg: f64,
+    /// Ripple height, m.
+    pub height_m: f64,
+    /// Wavelength / height.
+    pub ripple_index: f64,
+    /// Mean lee slope, degrees.
+    pub lee_slope_deg: f64,
+    /// Mean stoss slope, degrees.
+    pub stoss_slope_deg: f64,
+    /// Median grain size of the surface automata on crests, mm.
+    pub d50_crest_mm: f64,
+    /// Median grain size of the surface automata in troughs, mm.
+    pub d50_trough_mm: f64,
+}
+
+/// The dominant wave vector of a row-major `nx x ny` field with bins `dx` m:
+/// (wavelength m, direction degrees in [0, 180)). NaN for a flat field.
+pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64) {
+    let mean = field.iter().sum::<f64>() / field.len() as f64;
+    let mut buf: Vec<Complex<f64>> = field.iter().map(|&v| Complex::new(v - mean, 0.0)).collect();
+    let mut planner = FftPlanner::<f64>::new();
+    let fx = planner.plan_fft_forward(nx);
+    for row in buf.chunks_exact_mut(nx) {
+        fx.process(row);
+    }
+    if ny > 1 {
+        let fy = planner.plan_fft_forward(ny);
+        let mut col = vec![Complex::new(0.0, 0.0); ny];
+        for x in 0..nx {
+            for y in 0..ny {
+                col[y] = buf[y * nx + x];
+            }
+            fy.process(&mut col);
+            for y in 0..ny {
+                buf[y * nx + x] = col[y];
+            }
+        }
+    }
+    let freq = |i: usize, n: usize| -> f64 {
+        if i <= n / 2 {
+            i as f64
+        } else {
+            i as f64 - n as f64
+        }
+    };
+    // The dominant peak: power-weighted mean over the bins holding at least half the largest
+    // power (a wave vector and its opposite counted once, on the half plane kx > 0 or
+    // kx = 0, ky > 0); the direction is averaged as a doubled angle (axial data).
+    let mut bins = Vec::new();
+    let mut pmax = 0.0f64;
+    for y in 0..ny {
+        for x in 0..nx {
+            let (kx, ky) = (freq(x, nx), freq(y, ny));
+            if kx < 0.0 || (kx == 0.0 && ky <= 0.0) {
+                continue;
+            }
+            let p = buf[y * nx + x].norm_sqr();
+            pmax = pmax.max(p);
+            bins.push((p, kx / (nx as f64 * dx), ky / (ny as f64 * dx)));
+        }
+    }
+    if pmax <= 1e-30 {
+        return (f64::NAN, f64::NAN);
+    }
+    let (mut w, mut kk, mut c2, mut s2) = (0.0, 0.0, 0.0, 0.0);
+    for &(p, kx, ky) in &bins {
+        if p >= 0.5 * pmax {
+            let a = ky.atan2(kx);
+            w += p;
+            kk += p * (kx * kx + ky * ky).sqrt();
+            c2 += p * (2.0 * a).cos();
+            s2 += p * (2.0 * a).sin();
+        }
+    }
+    let wl = w / kk;
+    let ang = (0.5 * s2.atan2(c2)).to_degrees().rem_euclid(180.0);
+    (wl, if ang >= 180.0 - 1e-9 { 0.0 } else { ang })
+}
+
+/// The 8-cell Moore average (with the cell itself) of a field on the run's lattice.
+pub fn moore_average(r: &Ripple, field: &[f64]) -> Vec<f64> {
+    let l = r.lattice();
+    (0..field.len())
+        .map(|c| {
+            let mut s = field[c];
+            let mut n = 1.0;
+            l.for_each_neighbour(c, |m| {
+                s += field[m];
+                n += 1.0;
+            });
+            s / n
+        })
+        .collect()
+}
+
+/// The mean and standard deviation of a slice.
+pub fn mean_std(v: &[f64]) -> (f64, f64) {
+    let n = v.len().max(1) as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n;
+    (m, var.sqrt())
+}
+
+impl Analysis {
+    /// Measures the run's current bed.
+    pub fn of(r: &Ripple) -> Analysis {
+        let (nx, ny) = r.size();
+        let p = r.params();
+        let dx = p.bin_size;
+        let elev = r.elevation();
+        let (wavelength_m, crest_normal_deg) = dominant_wave(&elev, nx, ny, dx);
+        let smooth = moore_average(r, &elev);
+        let (mean, sd) = mean_std(&smooth);
+        let height_m = 2.0 * std::f64::consts::SQRT_2 * sd;
+        let theta = if ny == 1 {
+            0.0
+        } else {
+            p.current_angle.to_radians()
+        };
+        let (ct, st) = (theta.cos(), theta.sin());
+        let (mut lee, mut nlee, mut stoss, mut nstoss) = (0.0, 0usize, 0.0, 0usize);
+        for y in 0..ny {
+            for x in 0..nx {
+                let at = |xx: isize, yy: isize| {
+                    let xx = (x as isize + xx).rem_euclid(nx as isize) as usize;
+                    let yy = (y as isize + yy).rem_euclid(ny as isize) as usize;
+                    smooth[yy * nx + xx]
+                };
+                let gx = (at(1, 0) - at(-1, 0)) / (2.0 * dx);
+                let gy = if ny > 1 {
+                    (at(0, 1) - at(0, -1)) / (2.0 * dx)
+                } else {
+                    0.0
+                };
+                let g = gx * ct + gy * st;
+                if g < 0.0 {
+                    lee -= g;
+                    nlee += 1;
+                } else if g > 0.0 {
+                    stoss += g;
+                    nstoss += 1;
+                }
+            }
+        }
+        let ang = |s: f64, n: usize| {
+            if n == 0 {
+                0.0
+            } else {
+                (s / n as f64).atan().to_degrees()
+            }
+        };
+        let vol = r.volume();
+        let k = r.classes().len();
+        let (mut crest, mut trough) = (vec![0u64; k], vec![0u64; k]);
+        for (c, &h) in smooth.iter().enumerate() {
+            if let Some(a) = vol.top(c) {
+                if h >= mean + 0.5 * sd {
+                    crest[a.class() as usize] += 1;
+                } else if h <= mean - 0.5 * sd {
+                    trough[a.class() as usize] += 1;
+                }
+            }
+        }
+        Analysis {
+            wavelength_m,
+            crest_normal_deg,
+            height_m,
+            ripple_index: wavelength_m / height_m,
+            lee_slope_deg: ang(lee, nlee),
+            stoss_slope_deg: ang(stoss, nstoss),
+            d50_crest_mm: median_d_mm(r.classes(), &crest),
+            d50_trough_mm: median_d_mm(r.classes(), &trough),
+        }
+    }
+}
+
+/// Soulsby & Whitehouse (2005) equilibrium current ripples (PHYSICS.md), valid for
+/// 1.2 < D* < 16: (wavelength m, height m) for `d50` in m.
+pub fn soulsby_whitehouse(d50: f64) -> (f64, f64) {
+    let ds = super::grain::d_star(d50);
+    (
+        d50 * (500.0 + 1881.0 * ds.powf(-1.5)),
+        d50 * 202.0 * ds.powf(-0.554),
+    )
+}
+
+/// Soulsby (1997) Eq. 81 current ripples: (wavelength m, height m) = (1000 d50, 1000 d50 / 7).
+pub fn soulsby_1997(d50: f64) -> (f64, f64) {
+    (1000.0 * d50, 1000.0 * d50 / 7.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spectrum_finds_a_plane_wave_and_its_direction() {
+        let (nx, ny, dx) = (64, 32, 0.01);
+        // wave vector (4 cycles along x, 2 along y): direction atan2(2/0.32, 4/0.64) = 45 deg.
+        let f: Vec<f64> = (0..nx * ny)
+            .map(|i| {
+                let (x, y) = ((i % nx) as f64, (i / nx) as f64);
+                (2.0 * std::f64::consts::PI * (4.0 * x / nx as f64 + 2.0 * y / ny as f64)).cos()
+            })
+            .collect();
+        let (wl, ang) = dominant_wave(&f, nx, ny, dx);
+        let k = ((4.0f64 / 0.64).powi(2) + (2.0f64 / 0.32).powi(2)).sqrt();
+        assert!((wl - 1.0 / k).abs() < 1e-9, "{wl}");
+        assert!((ang - 45.0).abs() < 1e-6, "{ang}");
+    }
+
+    #[test]
+    fn soulsby_whitehouse_check_value() {
+        // PHYSICS.md: d50 = 0.2 mm -> lambda = 14.6 cm, height = 1.86 cm.
+        let (l, h) = soulsby_whitehouse(0.2e-3);
+        assert!((l - 0.146).abs() < 0.002, "{l}");
+        assert!((h - 0.0186).abs() < 0.0005, "{h}");
+    }
+}

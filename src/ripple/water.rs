@@ -1,0 +1,298 @@
+//! [`Flow`] and [`WaterVolume`]: the free-stream flow of a step and the sliced water volume of
+//! the paper's Sect. 2.3, which decides which grains are exposed and how fast the water is at
+//! the bed.
+//!
+//! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
+//! `current_angle`: a steady current `U_c` plus an oscillating (wave) component of amplitude
+//! `U_w` and period `T` steps. When it is negative the flow runs the other way (angle + 180 deg),
+//! so a pure wave (`U_c = 0`) pushes equally both ways and gives symmetric ripples.
+//!
+//! **Slices** ([`crate::ripple::Abstraction::Slices`]). The water above the bed is cut into
+//! horizontal slices `slice_layers` automata thick; slice `j` lies at level `z_j = j x
+//! slice_layers`. A slice is obstructed at a column whose sand rises above `z_j`. Behind an
+//! obstruction rising `e` slices above it (e = ceil((H - z_j) / slice_layers)), the slice's
+//! speed is zero over `shadow_length x e` bins and then recovers linearly over
+//! `recovery_length x e` bins ("depending on the height of the crest ... the water flow will
+//! pick up speed again closer or further behind the crest"). Each slice drags the one below
+//! with a delay of `drag_delay` bins: the speed of slice `j` at x is at most that of slice
+//! `j + 1` at `x - drag_delay` (upstream). The bed speed of a column is the speed of the lowest
+//! slice at or above its surface; zero means the column is in the current shadow.
+//!
+//! The water volume is a deterministic function of the bed, so it is evaluated lazily, for the
+//! column being asked about, from the bed as it is at that moment (looking upstream along the
+//! flow at most [`MAX_REACH`] bins): this is the paper's "recomputed after each step" in its
+//! asynchronous limit, and it keeps a step's cost proportional to its activations.
+//! [`WaterVolume::section`] computes the whole sliced field of a row for figures.
+
+use std::f64::consts::PI;
+
+use super::params::RippleParams;
+
+/// How far upstream the water volume looks, bins.
+pub const MAX_REACH: usize = 64;
+
+/// The free-stream flow during one step.
+#[derive(Clone, Debug)]
+pub struct Flow {
+    /// Free-stream speed, m/s (>= 0).
+    pub speed: f64,
+    /// Direction the water flows towards, radians counter-clockwise from +x.
+    pub angle: f64,
+    /// The direction in Moore octants (0 = +x, 1 = +x+y, ..., in [0, 8)).
+    pub octant: f64,
+    /// Offsets (dx, dy) of the points 1..=MAX_REACH bins upstream.
+    pub upstream: Vec<(i32, i32)>,
+}
+
+impl Flow {
+    /// The flow at step `t` (2-D mode keeps it along +-x).
+    pub fn at(p: &RippleParams, t: u64, two_d: bool) -> Flow {
+        let wave = if p.wave_period > 0.0 {
+            p.wave_amplitude * (2.0 * PI * (t as f64 + 0.5) / p.wave_period).sin()
+        } else {
+            0.0
+        };
+        let v = p.current_speed + wave;
+        let base = if two_d {
+            0.0
+        } else {
+            p.current_angle.to_radians()
+        };
+        let angle = if v < 0.0 { base + PI } else { base };
+        let angle = angle.rem_euclid(2.0 * PI);
+        let octant = (angle / (PI / 4.0)).rem_euclid(8.0);
+        let (c, s) = (angle.cos(), angle.sin());
+        let upstream = (1..=MAX_REACH)
+            .map(|k| {
+                let dx = (-(k as f64) * c).round() as i32;
+                let dy = if two_d {
+                    0
+                } else {
+                    (-(k as f64) * s).round() as i32
+                };
+                (dx, dy)
+            })
+            .collect();
+        Flow {
+            speed: v.abs(),
+            angle,
+            octant,
+            upstream,
+        }
+    }
+}
+
+/// The sliced water volume's rules (Sect. 2.3).
+#[derive(Clone, Copy, Debug)]
+pub struct WaterVolume {
+    /// Slice thickness, automata.
+    pub slice_layers: usize,
+    /// Zero-speed length per slice of obstruction, bins.
+    pub shadow_length: usize,
+    /// Recovery length per slice of obstruction, bins.
+    pub recovery_length: usize,
+    /// Drag delay between a slice and the one below, bins.
+    pub drag_delay: usize,
+}
+
+impl WaterVolume {
+    /// The rules of a run.
+    pub fn new(p: &RippleParams) -> Self {
+        WaterVolume {
+            slice_layers: p.slice_layers,
+            shadow_length: p.shadow_length,
+            recovery_length: p.recovery_length,
+            drag_delay: p.drag_delay,
+        }
+    }
+
+    /// Speed fraction of a slice at distance `d` bins behind an obstruction `e` slices high.
+    #[inline]
+    fn ramp(&self, d: usize, e: usize) -> f64 {
+        let zero = self.shadow_length * e;
+        if d <= zero {
+            return 0.0;
+        }
+        let rec = (self.recovery_length * e) as f64 + 1.0;
+        ((d - zero) as f64 / rec).min(1.0)
+    }
+
+    /// Fraction (0..=1) of the free-stream speed at the bed of column (`x`, `y`) on a grid of
+    /// `nx` x `ny` columns with `heights`, under `flow`. Zero: the column is in the current
+    /// shadow.
+    #[allow(clippy::too_many_arguments)]
+    pub fn bed_speed(
+        &self,
+        heights: &[u16],
+        nx: usize,
+        ny: usize,
+        x: usize,
+        y: usize,
+        hmax_bound: usize,
+        flow: &Flow,
+    ) -> f64 {
+        let h0 = heights[y * nx + x] as usize;
+        self.speed_at_level(heights, nx, ny, x, y, h0, hmax_bound, flow)
+    }
+
+    /// Fraction of the free-stream speed in the lowest slice at or above level `level`
+    /// (automata) over column (`x`, `y`); `hmax_bound` is an upper bound of the bed's heights
+    /// (it limits how far upstream to look).
+    #[allow(clippy::too_many_arguments)]
+    pub fn speed_at_level(
+        &self,
+        heights: &[u16],
+        nx: usize,
+        ny: usize,
+        x: usize,
+        y: usize,
+        level: usize,
+        hmax_bound: usize,
+        flow: &Flow,
+    ) -> f64 {
+        let t = self.slice_layers;
+        let j0 = level.div_ceil(t);
+        // Only obstructions up to `hmax_bound` exist, so nothing further upstream than
+        // (shadow + recovery + delay) x (slices between the level and hmax_bound) matters.
+        let e_bound = hmax_bound.saturating_sub(j0 * t).div_ceil(t);
+        let per = self.shadow_length + self.recovery_length + self.drag_delay;
+        let reach = (per * e_bound + 1).min(MAX_REACH);
+        // The upstream columns that rise above the level: only they can obstruct.
+        let mut obs: [(u16, u16); MAX_REACH] = [(0, 0); MAX_REACH];
+        let mut n = 0;
+        let mut hmax = 0usize;
+        let (nxi, nyi) = (nx as i32, ny as i32);
+        for (k, &(dx, dy)) in flow.upstream[..reach].iter().enumerate() {
+            let mut xx = x as i32 + dx;
+            let mut yy = y as i32 + dy;
+            if xx < 0 || xx >= nxi {
+                xx = xx.rem_euclid(nxi);
+            }
+            if yy < 0 || yy >= nyi {
+                yy = yy.rem_euclid(nyi);
+            }
+            let h = heights[yy as usize * nx + xx as usize] as usize;
+            if h > j0 * t {
+                // The bed slice is still within this obstruction's zero-speed zone: the minimum
+                // is zero whatever lies further upstream.
+                if k < self.shadow_length * (h - j0 * t).div_ceil(t) {
+                    return 0.0;
+                }
+                obs[n] = ((k + 1) as u16, h as u16);
+                n += 1;
+                hmax = hmax.max(h);
+            }
+        }
+        let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
+        let mut s: f64 = 1.0;
+        let mut m = 0;
+        loop {
+            let z = (j0 + m) * t;
+            let shift = m * self.drag_delay;
+            if z >= hmax || shift >= reach {
+                break;
+            }
+            for &(k, h) in &obs[..n] {
+                let (k, h) = (k as usize, h as usize);
+                if k > shift && h > z {
+                    let e = (h - z).div_ceil(t);
+                    if k - shift <= reach_of(e) {
+                        s = s.min(self.ramp(k - shift, e));
+                    }
+                }
+            }
+            if s == 0.0 {
+                return 0.0;
+            }
+            m += 1;
+        }
+        s
+    }
+
+    /// The speed fraction of every slice over row `y`: `out[j][x]` for slices `j` whose level
+    /// is below `levels` automata (NaN inside the sand). For figures.
+    pub fn section(
+        &self,
+        heights: &[u16],
+        nx: usize,
+        ny: usize,
+        y: usize,
+        levels: usize,
+        flow: &Flow,
+    ) -> Vec<Vec<f64>> {
+        let t = self.slice_layers;
+        let hb = heights.iter().copied().max().unwrap_or(0) as usize;
+        (0..levels.div_ceil(t))
+            .map(|j| {
+                (0..nx)
+                    .map(|x| {
+                        let z = j * t;
+                        if (heights[y * nx + x] as usize) > z {
+                            f64::NAN
+                        } else {
+                            self.speed_at_level(heights, nx, ny, x, y, z, hb, flow)
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flow_x() -> Flow {
+        let p = RippleParams::default();
+        Flow::at(&p, 0, true)
+    }
+
+    #[test]
+    fn flat_bed_is_fully_exposed() {
+        let w = WaterVolume::new(&RippleParams::default());
+        let h = vec![10u16; 20];
+        for x in 0..20 {
+            assert_eq!(w.bed_speed(&h, 20, 1, x, 0, 10, &flow_x()), 1.0);
+        }
+    }
+
+    #[test]
+    fn sect_2_3_zero_behind_a_crest_then_recovering() {
+        let w = WaterVolume {
+            slice_layers: 1,
+            shadow_length: 2,
+            recovery_length: 2,
+            drag_delay: 1,
+        };
+        let mut h = vec![10u16; 40];
+        h[5] = 12; // a crest two slices high
+        let f = flow_x();
+        let s: Vec<f64> = (0..40)
+            .map(|x| w.bed_speed(&h, 40, 1, x, 0, 12, &f))
+            .collect();
+        assert_eq!(s[4], 1.0, "upstream of the crest");
+        assert_eq!(s[6], 0.0);
+        assert_eq!(s[9], 0.0, "shadow over 2 x 2 bins");
+        assert!(s[10] > 0.0 && s[10] < 1.0, "recovering: {}", s[10]);
+        assert_eq!(s[30], 1.0, "recovered");
+        for x in 6..30 {
+            assert!(s[x + 1] >= s[x], "monotone recovery");
+        }
+    }
+
+    #[test]
+    fn wave_reverses_the_flow() {
+        let p = RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 10.0,
+            ..RippleParams::default()
+        };
+        let a = Flow::at(&p, 1, false);
+        let b = Flow::at(&p, 6, false);
+        assert!((a.angle - 0.0).abs() < 1e-9);
+        assert!((b.angle - PI).abs() < 1e-9);
+        assert!((a.speed - b.speed).abs() < 1e-9);
+    }
+}

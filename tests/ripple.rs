@@ -1,0 +1,565 @@
+//! The sand-ripple volume generator (issue 3): invariants after every step, the ripple field's
+//! shape, grain sorting, stiff and extreme cases, invalid parameters, and the output files.
+//! Small grids and few steps keep the suite fast; long runs are `#[ignore]`d.
+
+use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
+use cellsurf::ripple::{
+    Abstraction, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleError, RippleParams,
+};
+
+fn small() -> RippleParams {
+    RippleParams {
+        nx: 32,
+        ny: 16,
+        layers: 12,
+        steps: 150,
+        activity: 0.01,
+        ..RippleParams::default()
+    }
+}
+
+/// Runs `p.steps` steps, checking after every step that automata and per-class counts (so
+/// per-class mass) are conserved and that no slope exceeds alpha.
+fn checked_run(p: &RippleParams) -> Ripple {
+    let mut r = Ripple::new(p).unwrap();
+    let classes = r.classes().len();
+    let counts0 = r.initial_class_counts().to_vec();
+    let mass0 = r.class_masses();
+    assert_eq!(r.steep_pair(), None, "initial bed relaxed");
+    for _ in 0..p.steps {
+        r.step();
+        assert_eq!(
+            r.mass_change(),
+            0,
+            "automata created or destroyed at step {}",
+            r.time()
+        );
+        assert_eq!(
+            r.volume().class_counts(classes),
+            counts0,
+            "class counts at step {}",
+            r.time()
+        );
+        assert_eq!(
+            r.steep_pair(),
+            None,
+            "a slope exceeds alpha after step {}",
+            r.time()
+        );
+    }
+    assert_eq!(r.class_masses(), mass0);
+    r
+}
+
+#[test]
+fn conservation_and_no_slope_above_alpha_after_every_step_3d_slices() {
+    checked_run(&small());
+}
+
+#[test]
+fn conservation_and_no_slope_above_alpha_after_every_step_3d_shadow() {
+    checked_run(&RippleParams {
+        abstraction: Abstraction::Shadow,
+        sorting: 1.0,
+        ..small()
+    });
+}
+
+#[test]
+fn conservation_and_no_slope_above_alpha_after_every_step_2d() {
+    let r = checked_run(&RippleParams {
+        mode: Mode::TwoD,
+        nx: 64,
+        ny: 1,
+        ..small()
+    });
+    assert!(r.stats().rolls > 0);
+}
+
+#[test]
+fn conservation_under_waves_and_oblique_current() {
+    checked_run(&RippleParams {
+        current_angle: 33.0,
+        wave_period: 20.0,
+        wave_amplitude: 0.4,
+        current_speed: 0.2,
+        ..small()
+    });
+}
+
+#[test]
+fn periodic_volume_tiles_without_seams() {
+    // The torus has no edge: the differences across the seam (x = nx-1 -> 0, y = ny-1 -> 0)
+    // are like those inside, and the bed is relaxed across it.
+    let p = RippleParams {
+        nx: 48,
+        ny: 24,
+        layers: 16,
+        steps: 400,
+        activity: 0.005,
+        abstraction: Abstraction::Shadow,
+        ..RippleParams::default()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    r.run(p.steps, |_| {});
+    assert_eq!(r.steep_pair(), None);
+    let h = r.volume().heights();
+    let (nx, ny) = (p.nx, p.ny);
+    let mut inner = 0.0;
+    let mut seam = 0.0;
+    for y in 0..ny {
+        for x in 0..nx {
+            let d = (h[y * nx + x] as f64 - h[y * nx + (x + 1) % nx] as f64).abs();
+            if x == nx - 1 {
+                seam += d;
+            } else {
+                inner += d;
+            }
+        }
+    }
+    let inner = inner / ((nx - 1) * ny) as f64;
+    let seam = seam / ny as f64;
+    assert!(seam < 3.0 * inner + 1.0, "seam {seam} inner {inner}");
+}
+
+fn ripple_run(angle: f64, seed: u64, f: impl FnOnce(&mut RippleParams)) -> Analysis {
+    let mut p = RippleParams {
+        nx: 64,
+        ny: 64,
+        layers: 16,
+        steps: 500,
+        activity: 0.006,
+        current_angle: angle,
+        seed,
+        ..RippleParams::default()
+    };
+    f(&mut p);
+    let mut r = Ripple::new(&p).unwrap();
+    r.run(p.steps, |_| {});
+    assert_eq!(r.mass_change(), 0);
+    Analysis::of(&r)
+}
+
+fn angle_diff_mod_180(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(180.0);
+    d.min(180.0 - d)
+}
+
+#[test]
+fn steady_current_makes_asymmetric_ripples_lee_steeper_than_stoss() {
+    let initial = {
+        let r = Ripple::new(&RippleParams {
+            nx: 64,
+            ny: 64,
+            layers: 16,
+            ..RippleParams::default()
+        })
+        .unwrap();
+        Analysis::of(&r)
+    };
+    for abstraction in [Abstraction::Slices, Abstraction::Shadow] {
+        let a = ripple_run(0.0, 1, |p| p.abstraction = abstraction);
+        eprintln!("{abstraction}: {a:?} (initial {initial:?})");
+        assert!(
+            a.lee_slope_deg > 1.1 * a.stoss_slope_deg,
+            "{abstraction}: lee {} stoss {}",
+            a.lee_slope_deg,
+            a.stoss_slope_deg
+        );
+        assert!(
+            a.height_m > 1.5 * initial.height_m,
+            "{abstraction}: grew {a:?}"
+        );
+        assert!(
+            a.wavelength_m > 3.0 * initial.wavelength_m,
+            "{abstraction}: a wavelength emerged {a:?} from {initial:?}"
+        );
+    }
+}
+
+#[test]
+fn crest_normal_follows_the_current_for_two_angles() {
+    for angle in [0.0, 90.0] {
+        let a = ripple_run(angle, 2, |_| {});
+        let d = angle_diff_mod_180(a.crest_normal_deg, angle);
+        eprintln!("current {angle}: crest normal {}", a.crest_normal_deg);
+        assert!(
+            d < 20.0,
+            "current {angle}: crest normal {}",
+            a.crest_normal_deg
+        );
+    }
+}
+
+#[test]
+fn pure_wave_gives_symmetric_ripples() {
+    let mut asym = 0.0;
+    let mut lee_stoss = Vec::new();
+    for seed in 1..=2 {
+        let a = ripple_run(0.0, seed, |p| {
+            p.current_speed = 0.0;
+            p.wave_amplitude = 0.5;
+            p.wave_period = 10.0;
+        });
+        asym += (a.lee_slope_deg - a.stoss_slope_deg).abs() / (a.lee_slope_deg + a.stoss_slope_deg);
+        lee_stoss.push((a.lee_slope_deg, a.stoss_slope_deg));
+    }
+    let c = ripple_run(0.0, 1, |_| {});
+    let asym_current =
+        (c.lee_slope_deg - c.stoss_slope_deg) / (c.lee_slope_deg + c.stoss_slope_deg);
+    eprintln!("wave lee/stoss {lee_stoss:?}; current {c:?}");
+    assert!(asym / 2.0 < 0.04, "wave: lee/stoss {lee_stoss:?}");
+    assert!(
+        asym / 2.0 < 0.5 * asym_current,
+        "wave {lee_stoss:?} vs current {c:?}"
+    );
+}
+
+#[test]
+fn finer_grains_at_crests_than_in_troughs() {
+    let (mut crest, mut trough) = (0.0, 0.0);
+    for seed in 1..=3 {
+        let a = ripple_run(0.0, seed, |p| p.sorting = 1.0);
+        crest += a.d50_crest_mm;
+        trough += a.d50_trough_mm;
+    }
+    eprintln!(
+        "d50 crest {} trough {} (mean of 3 seeds)",
+        crest / 3.0,
+        trough / 3.0
+    );
+    assert!(crest < trough, "crest {crest} trough {trough}");
+}
+
+fn extreme(f: impl FnOnce(&mut RippleParams)) -> Ripple {
+    let mut p = RippleParams {
+        nx: 16,
+        ny: 12,
+        layers: 8,
+        steps: 60,
+        activity: 0.02,
+        ..RippleParams::default()
+    };
+    f(&mut p);
+    checked_run(&p)
+}
+
+#[test]
+fn stiff_alpha_near_90_and_near_beta() {
+    extreme(|p| p.avalanche_angle = 89.9);
+    extreme(|p| {
+        p.avalanche_angle = 7.01;
+        p.stoss_angle = 7.0;
+    });
+    extreme(|p| {
+        p.avalanche_angle = 0.5;
+        p.stoss_angle = 0.5;
+    });
+}
+
+#[test]
+fn stiff_beta_zero_and_gamma_zero() {
+    extreme(|p| p.stoss_angle = 0.0);
+    extreme(|p| p.creep_angle = 0.0);
+    extreme(|p| p.creep_angle = 89.0);
+}
+
+#[test]
+fn zero_current_moves_nothing() {
+    let p = RippleParams {
+        nx: 16,
+        ny: 12,
+        layers: 8,
+        current_speed: 0.0,
+        ..RippleParams::default()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    let h0 = r.volume().heights().to_vec();
+    r.run(50, |_| {});
+    assert_eq!(r.volume().heights(), &h0[..]);
+    assert_eq!(r.stats().activations, 0);
+}
+
+#[test]
+fn current_strong_enough_to_expose_every_grain() {
+    let r = extreme(|p| {
+        p.current_speed = 10.0;
+        p.abstraction = Abstraction::Shadow;
+    });
+    assert!(r.stats().activations > 0);
+    // Every pick of a non-shadowed, non-held column is an activation: most picks are.
+    let s = r.stats();
+    assert!(s.activations * 3 > s.picks, "{s:?}");
+}
+
+#[test]
+fn one_grain_size_and_very_wide_sorting() {
+    let r = extreme(|p| p.sorting = 0.0);
+    assert_eq!(r.classes().len(), 1);
+    let r = extreme(|p| p.sorting = 4.0);
+    assert!(r.classes().len() > 200);
+}
+
+#[test]
+fn one_layer_volume_and_bare_spots() {
+    extreme(|p| {
+        p.layers = 1;
+        p.roughness = 1;
+    });
+    // Columns emptied to the substrate: the substrate never erodes, nothing is lost.
+    let p = RippleParams {
+        nx: 16,
+        ny: 12,
+        layers: 6,
+        activity: 0.05,
+        current_speed: 2.0,
+        ..RippleParams::default()
+    };
+    let mut h = vec![6usize; 16 * 12];
+    for c in (0..h.len()).step_by(3) {
+        h[c] = 0;
+    }
+    let mut r = Ripple::from_heights(&p, &h).unwrap();
+    let n0 = r.automata();
+    for _ in 0..100 {
+        r.step();
+        assert_eq!(r.volume().automata(), n0);
+        assert_eq!(r.steep_pair(), None);
+    }
+}
+
+#[test]
+fn smallest_legal_grids() {
+    extreme(|p| {
+        p.nx = 3;
+        p.ny = 3;
+    });
+    extreme(|p| {
+        p.mode = Mode::TwoD;
+        p.nx = 3;
+        p.ny = 1;
+    });
+}
+
+#[test]
+fn invalid_parameters_name_the_parameter() {
+    let cases: Vec<(&str, RippleParams)> = vec![
+        ("nx", RippleParams { nx: 2, ..small() }),
+        ("ny", RippleParams { ny: 0, ..small() }),
+        (
+            "layers",
+            RippleParams {
+                layers: 0,
+                ..small()
+            },
+        ),
+        (
+            "bin_size",
+            RippleParams {
+                bin_size: -1.0,
+                ..small()
+            },
+        ),
+        (
+            "layer_thickness",
+            RippleParams {
+                layer_thickness: 0.01,
+                ..small()
+            },
+        ),
+        (
+            "d50",
+            RippleParams {
+                d50: f64::NAN,
+                ..small()
+            },
+        ),
+        (
+            "sorting",
+            RippleParams {
+                sorting: -0.1,
+                ..small()
+            },
+        ),
+        (
+            "avalanche_angle",
+            RippleParams {
+                avalanche_angle: 90.0,
+                ..small()
+            },
+        ),
+        (
+            "stoss_angle",
+            RippleParams {
+                stoss_angle: 40.0,
+                ..small()
+            },
+        ),
+        (
+            "creep_angle",
+            RippleParams {
+                creep_angle: -1.0,
+                ..small()
+            },
+        ),
+        (
+            "activity",
+            RippleParams {
+                activity: 0.0,
+                ..small()
+            },
+        ),
+        (
+            "current_speed",
+            RippleParams {
+                current_speed: -1.0,
+                ..small()
+            },
+        ),
+        (
+            "wave_period",
+            RippleParams {
+                wave_period: 1.0,
+                ..small()
+            },
+        ),
+    ];
+    for (name, p) in cases {
+        match Ripple::new(&p) {
+            Err(RippleError::Range { parameter, .. }) => assert_eq!(parameter, name),
+            other => panic!(
+                "{name}: expected a range error, got {:?}",
+                other.map(|_| ())
+            ),
+        }
+        let msg = p.validate().unwrap_err().to_string();
+        assert!(msg.contains(name), "{msg}");
+    }
+}
+
+#[test]
+fn scene_files_reject_unknown_keys_and_take_defaults() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let good = std::fs::read_to_string(format!("{dir}/tests/fixtures/ripple_small.toml")).unwrap();
+    let p = RippleParams::from_toml(&good).unwrap();
+    assert_eq!(p.nx, 24);
+    assert_eq!(p.avalanche_angle, 32.0);
+    let bad = std::fs::read_to_string(format!("{dir}/tests/fixtures/ripple_bad_key.toml")).unwrap();
+    let e = RippleParams::from_toml(&bad).unwrap_err().to_string();
+    assert!(e.contains("currnt_speed"), "{e}");
+    let bad =
+        std::fs::read_to_string(format!("{dir}/tests/fixtures/ripple_bad_alpha.toml")).unwrap();
+    let e = RippleParams::from_toml(&bad).unwrap_err().to_string();
+    assert!(e.contains("avalanche_angle"), "{e}");
+    let fig3 = std::fs::read_to_string(format!("{dir}/scenarios/ripple_fig3.toml")).unwrap();
+    RippleParams::from_toml(&fig3).unwrap();
+}
+
+#[test]
+fn same_seed_same_volume() {
+    let run = || {
+        let mut r = Ripple::new(&small()).unwrap();
+        r.run(50, |_| {});
+        r.volume().heights().to_vec()
+    };
+    assert_eq!(run(), run());
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("cellsurf-ripple-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+#[test]
+fn netcdf_output_has_the_cdf_magic_and_opens_if_a_reader_is_installed() {
+    let p = RippleParams {
+        steps: 20,
+        ..small()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    let snaps = run_recording(&mut r, 20, &[0, 10, 20], |_| {});
+    assert_eq!(snaps.len(), 3);
+    let spec = OutputSpec {
+        fields: Field::ALL.to_vec(),
+        format: Format::NetCdf,
+    };
+    let path = tmp("vol.nc");
+    write_netcdf(&path, &r, &snaps, &spec).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    assert_eq!(&bytes[..4], b"CDF\x02", "NetCDF-3 64-bit offset magic");
+    assert!(!cellsurf::io::temp_path(&path).exists());
+    // Open it with scipy or netCDF4 when one of them happens to be importable.
+    let script = format!(
+        "import sys\ntry:\n    import netCDF4\n    d = netCDF4.Dataset({0:?})\n    e = d.variables['elevation'][:]\nexcept ImportError:\n    try:\n        from scipy.io import netcdf_file\n        d = netcdf_file({0:?}, mmap=False)\n        e = d.variables['elevation'][:]\n    except ImportError:\n        sys.exit(3)\nassert e.shape == (3, 16, 32), e.shape\nprint('ok')\n",
+        path.display().to_string()
+    );
+    match std::process::Command::new("python3")
+        .args(["-c", &script])
+        .output()
+    {
+        Ok(o) if o.status.code() == Some(3) => eprintln!("skipped: no netCDF4 or scipy"),
+        Ok(o) => assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr)),
+        Err(_) => eprintln!("skipped: no python3"),
+    }
+}
+
+#[test]
+fn npy_output_one_file_per_field_and_a_sidecar() {
+    let mut r = Ripple::new(&small()).unwrap();
+    let snaps = run_recording(&mut r, 5, &[5], |_| {});
+    let spec = OutputSpec {
+        fields: vec![Field::Elevation, Field::Impedance],
+        format: Format::Npy,
+    };
+    let files = write_npy(&tmp("vol.npy"), &r, &snaps, &spec).unwrap();
+    assert_eq!(files.len(), 3);
+    let e = std::fs::read(&files[0]).unwrap();
+    assert_eq!(&e[..6], b"\x93NUMPY");
+    let hl = u16::from_le_bytes([e[8], e[9]]) as usize;
+    assert_eq!(e.len(), 10 + hl + 4 * 16 * 32);
+    let side = std::fs::read_to_string(&files[2]).unwrap();
+    assert!(side.contains("\"cellsurf_version\"") && side.contains("\"avalanche_angle\": 32"));
+}
+
+#[test]
+fn apl_uw_preset_cannot_be_mixed_with_porosity() {
+    let spec = OutputSpec {
+        fields: vec![Field::Porosity],
+        format: Format::NetCdf,
+    };
+    let e = spec
+        .validate(cellsurf::ripple::AcousticModel::AplUw)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fields") && e.contains("apl-uw"), "{e}");
+}
+
+#[test]
+fn memory_under_16_bytes_per_automaton() {
+    let r = Ripple::new(&RippleParams {
+        nx: 64,
+        ny: 64,
+        layers: 20,
+        ..RippleParams::default()
+    })
+    .unwrap();
+    assert!(
+        r.bytes_per_automaton() < 16.0,
+        "{}",
+        r.bytes_per_automaton()
+    );
+}
+
+#[test]
+#[ignore = "long: the default (Fig. 3) run, about 2-5 s in release"]
+fn default_run_against_soulsby() {
+    let p = RippleParams::default();
+    let mut r = Ripple::new(&p).unwrap();
+    r.run(p.steps, |_| {});
+    let a = Analysis::of(&r);
+    let (l, h) = cellsurf::ripple::spectrum::soulsby_whitehouse(p.d50 * 1e-3);
+    eprintln!("{a:?}\nSoulsby & Whitehouse: wavelength {l} m, height {h} m");
+    assert!(a.lee_slope_deg > a.stoss_slope_deg);
+    assert_eq!(r.mass_change(), 0);
+}

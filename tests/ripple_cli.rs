@@ -1,0 +1,111 @@
+//! `cellsurf ripple` as a user meets it: the JSON summary's keys, the NetCDF and npy files,
+//! scene files, and bad input rejected with a message naming the parameter.
+#![cfg(feature = "cli")]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cellsurf(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args(args)
+        .output()
+        .expect("run cellsurf")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cellsurf-ripple-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+const SMALL: &[&str] = &[
+    "ripple", "--nx", "24", "--ny", "12", "--layers", "10", "--steps", "40", "--seed", "3",
+];
+
+#[test]
+fn json_summary_has_the_promised_keys_and_conserves_mass() {
+    let out = tmp("a.nc");
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--json",
+        "--snapshots",
+        "0,20,40",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let o = cellsurf(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for k in [
+        "steps",
+        "automata",
+        "activations",
+        "elapsed_s",
+        "wavelength_m",
+        "crest_normal_deg",
+        "height_m",
+        "ripple_index",
+        "lee_slope_deg",
+        "stoss_slope_deg",
+        "mass_change",
+        "d50_crest_mm",
+        "d50_trough_mm",
+    ] {
+        assert!(v.get(k).is_some(), "missing {k}");
+    }
+    assert_eq!(v["mass_change"], 0);
+    assert_eq!(v["steps"], 40);
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(&bytes[..4], b"CDF\x02");
+}
+
+#[test]
+fn only_the_fields_asked_for_are_written_as_npy() {
+    let out = tmp("b.npy");
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--quiet",
+        "--format",
+        "npy",
+        "--fields",
+        "elevation,porosity",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let o = cellsurf(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(tmp("b_elevation.npy").exists());
+    assert!(tmp("b_porosity.npy").exists());
+    assert!(!tmp("b_impedance.npy").exists());
+    let side = std::fs::read_to_string(tmp("b.json")).unwrap();
+    assert!(side.contains("\"porosity\"") && !side.contains("\"impedance\""));
+}
+
+#[test]
+fn scene_file_and_bad_input() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let scene = format!("{dir}/tests/fixtures/ripple_small.toml");
+    let o = cellsurf(&["ripple", "--scenario", &scene, "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bad = format!("{dir}/tests/fixtures/ripple_bad_key.toml");
+    let o = cellsurf(&["ripple", "--scenario", &bad]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("currnt_speed"));
+    let o = cellsurf(&["ripple", "--avalanche-angle", "95"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("avalanche_angle"));
+    let o = cellsurf(&["ripple", "--steps", "10", "--snapshots", "20"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("snapshots"));
+    let o = cellsurf(&[
+        "ripple",
+        "--acoustics",
+        "apl-uw",
+        "--fields",
+        "porosity",
+        "--steps",
+        "1",
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("fields"));
+}
