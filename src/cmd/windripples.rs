@@ -1,10 +1,239 @@
-//! `cellsurf` subcommand: placeholder, being written.
+//! `cellsurf wind-ripples`: the particle model of the wind-ripple notebook
+//! ([`cellsurf::windripples`]), with a progress bar, a picture, a `.npy` dump and a JSON summary.
 
-/// Options.
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use cellsurf::io::write_atomic;
+use cellsurf::windripples::{self, Schedule, WindParams, WindRun};
+
+const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Options of `cellsurf wind-ripples` (defaults: the notebook's `Params()`).
 #[derive(clap::Args)]
-pub struct Args {}
+#[command(
+    long_about = "Wind ripples: the particle model of the wind-ripple notebook.\n\n\
+        N particles on the unit torus; each step: diffusion x, y += sigma N(0,1) with \
+        sigma = D/sqrt(step+1) (--schedule annealed, the notebook's numpy code) or D (constant, \
+        its torch code); wrap to [0,1); height h = 2-D histogram of bins x bins cells with \
+        density normalisation (mean 1); saltation y += L sigmoid(-kappa h(cell)).\n\n\
+        Examples:\n  cellsurf wind-ripples --out ripples.png\n  \
+        cellsurf wind-ripples --steps 128 --json\n  \
+        cellsurf wind-ripples --schedule constant --kappa 0 --npy h.npy --threads 1"
+)]
+pub struct Args {
+    /// Steps of the loop (notebook N_step).
+    #[arg(long, default_value_t = WindParams::default().steps)]
+    steps: u64,
+    /// Number of particles N (notebook N_particles = 2**16 * 8), 1 to 2^30; 24 bytes of memory
+    /// each (48 while they are re-sorted).
+    #[arg(long, default_value_t = WindParams::default().particles)]
+    particles: usize,
+    /// Histogram cells per side (bins x bins cells), 1 to 4096.
+    #[arg(long, default_value_t = WindParams::default().bins)]
+    bins: usize,
+    /// Saltation sensitivity kappa >= 0 (hop = L sigmoid(-kappa h), h has mean 1).
+    #[arg(long, default_value_t = WindParams::default().kappa, allow_negative_numbers = true, value_parser = parse_number)]
+    kappa: f64,
+    /// Saltation hop L along the wind y, in torus sides (0.015625 = 1/64; fractions such as 1/64
+    /// are accepted; L >= 1 wraps around).
+    #[arg(long, default_value_t = WindParams::default().hop, allow_negative_numbers = true, value_parser = parse_number)]
+    hop: f64,
+    /// Diffusion D, in torus sides per step (standard deviation per axis of the first step).
+    #[arg(long, default_value_t = WindParams::default().diffusion, allow_negative_numbers = true, value_parser = parse_number)]
+    diffusion: f64,
+    /// Diffusion schedule: annealed (D/sqrt(step+1), the notebook's numpy code) or constant (D,
+    /// its torch code).
+    #[arg(long, default_value_t = Schedule::Annealed)]
+    schedule: Schedule,
+    /// Seed of the random streams (the same seed gives the same output, whatever --threads).
+    #[arg(long, default_value_t = WindParams::default().seed)]
+    seed: u64,
+    /// Worker threads; 0 = all cores. The results do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write a picture of the final height field (PNG).
+    #[arg(long, value_name = "FILE.png")]
+    out: Option<PathBuf>,
+    /// Write the final height field as a bins x bins float64 .npy (index [ix, iy] as the
+    /// notebook's height), with the parameters in FILE.npy.json.
+    #[arg(long, value_name = "FILE.npy")]
+    npy: Option<PathBuf>,
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// A number, or a fraction `a/b` of two numbers (e.g. `1/64`).
+fn parse_number(s: &str) -> Result<f64, String> {
+    let bad = || format!("'{s}' is not a number (e.g. 4.5, 8e-4 or 1/64)");
+    let v = match s.split_once('/') {
+        Some((a, b)) => {
+            let a: f64 = a.trim().parse().map_err(|_| bad())?;
+            let b: f64 = b.trim().parse().map_err(|_| bad())?;
+            a / b
+        }
+        None => s.trim().parse().map_err(|_| bad())?,
+    };
+    Ok(v)
+}
+
+/// Fails early (before a long run) when an output file's folder does not exist.
+fn check_output(flag: &str, p: &Path) -> Result<()> {
+    if let Some(dir) = p.parent() {
+        if !dir.as_os_str().is_empty() && !dir.is_dir() {
+            bail!(
+                "{flag} {}: the folder {} does not exist",
+                p.display(),
+                dir.display()
+            );
+        }
+    }
+    if p.is_dir() {
+        bail!("{flag} {}: is a folder, expected a file name", p.display());
+    }
+    Ok(())
+}
+
+/// The summary printed by `--json` and written next to `--npy`.
+fn summary(r: &WindRun, threads: usize) -> serde_json::Value {
+    let p = &r.params;
+    let s = &r.stats;
+    serde_json::json!({
+        "model": "wind-ripples",
+        "steps": p.steps,
+        "particles": p.particles,
+        "bins": p.bins,
+        "elapsed_s": r.elapsed_s,
+        "setup_s": r.setup_s,
+        "particle_steps_per_s": p.steps as f64 * p.particles as f64 / r.elapsed_s.max(1e-12),
+        "height_mean": s.height_mean,
+        "height_std": s.height_std,
+        "wavelength_bins": s.wavelength_bins,
+        "mean_wavelength_bins": s.mean_wavelength_bins,
+        "threads": threads,
+        "version": VERSION,
+        "parameters": p,
+    })
+}
 
 /// Runs the subcommand.
-pub fn run(_a: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+pub fn run(a: Args) -> Result<()> {
+    let params = WindParams {
+        bins: a.bins,
+        particles: a.particles,
+        steps: a.steps,
+        hop: a.hop,
+        kappa: a.kappa,
+        diffusion: a.diffusion,
+        schedule: a.schedule,
+        seed: a.seed,
+    };
+    params
+        .validate()
+        .context("invalid wind-ripples parameters")?;
+    if a.threads > 4096 {
+        bail!(
+            "--threads = {} is out of range: 0 (all cores) to 4096",
+            a.threads
+        );
+    }
+    if let Some(p) = &a.out {
+        check_output("--out", p)?;
+    }
+    if let Some(p) = &a.npy {
+        check_output("--npy", p)?;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    let threads = pool.current_num_threads();
+
+    let bar = ProgressBar::with_draw_target(Some(params.steps), ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} steps ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!(
+        "wind ripples N={} {}x{}",
+        params.particles, params.bins, params.bins
+    ));
+    let silent = a.quiet || a.json;
+    let start = Instant::now();
+    let mut shown = false;
+    let r = pool.install(|| {
+        windripples::run(&params, |done| {
+            if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
+                bar.set_draw_target(ProgressDrawTarget::stderr());
+                shown = true;
+            }
+            bar.set_position(done);
+        })
+    })?;
+    bar.finish_and_clear();
+
+    if let Some(p) = &a.out {
+        cellsurf::plot::set_png_parameters(Some(params.describe_toml()));
+        windripples::figures::draw_height(p, &r)
+            .with_context(|| format!("writing --out {}", p.display()))?;
+    }
+    if let Some(p) = &a.npy {
+        let bytes = windripples::npy_bytes(&r.height, &[params.bins, params.bins]);
+        write_atomic(p, &bytes).with_context(|| format!("writing --npy {}", p.display()))?;
+        let mut side = summary(&r, threads);
+        if let Some(o) = side.as_object_mut() {
+            o.insert("parameters_toml".into(), params.describe_toml().into());
+            o.insert(
+                "layout".into(),
+                serde_json::json!(
+                    "float64 C-order [ix, iy]: x (across the wind) first, y (the wind) second; \
+                     h = count * bins^2 / N, the histogram of the last step"
+                ),
+            );
+        }
+        let mut name = p.as_os_str().to_owned();
+        name.push(".json");
+        let side_path = PathBuf::from(name);
+        write_atomic(
+            &side_path,
+            format!("{}\n", serde_json::to_string_pretty(&side)?).as_bytes(),
+        )
+        .with_context(|| format!("writing {}", side_path.display()))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string(&summary(&r, threads))?);
+    } else {
+        let s = &r.stats;
+        let f = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3} bins"));
+        println!("wind ripples: {}", windripples::figures::describe(&params));
+        println!(
+            "  {} steps ({} schedule) in {:.3} s on {threads} threads (set-up {:.3} s), {:.3e} particle-steps/s",
+            params.steps,
+            params.schedule,
+            r.elapsed_s,
+            r.setup_s,
+            params.steps as f64 * params.particles as f64 / r.elapsed_s.max(1e-12)
+        );
+        println!(
+            "  height mean {:.6}, std {:.4}; dominant wavelength {}, mean wavelength {}",
+            s.height_mean,
+            s.height_std,
+            f(s.wavelength_bins),
+            f(s.mean_wavelength_bins)
+        );
+        for (flag, p) in [("--out", &a.out), ("--npy", &a.npy)] {
+            if let Some(p) = p {
+                println!("  wrote {} ({flag})", p.display());
+            }
+        }
+    }
+    Ok(())
 }
