@@ -163,38 +163,19 @@ impl DuneModel {
     /// allows, one slab slides to the one with the largest excess, and the check goes on
     /// from there.
     fn avalanche_down(&mut self, c: usize) {
-        let (slab, le, ld) = {
-            let w = self.werner();
-            (w.slab, w.repose_edge, w.repose_diag)
-        };
-        let (mut x, mut row) = self.split(c);
-        loop {
-            let c = row + x;
-            let hc = self.h[c];
-            let mut best = None;
-            let mut best_excess = 0u64;
-            for (k, &(nb, nx, nrow)) in self.moore(x, row).iter().enumerate() {
-                let lim = if k % 2 == 0 { le } else { ld };
-                let hn = self.h[nb];
-                if hc > hn + lim && hc - hn - lim > best_excess {
-                    best_excess = hc - hn - lim;
-                    best = Some((nb, nx, nrow));
-                }
-            }
-            let Some((nb, nx, nrow)) = best else {
-                return;
-            };
-            self.h[c] -= slab;
-            self.h[nb] += slab;
-            self.raise_row_max(nb);
-            (x, row) = (nx, nrow);
-        }
+        self.avalanche(c, true);
     }
 
     /// After an erosion at `c`: while some neighbour stands higher than the angle of repose
     /// allows, one slab slides from the one with the largest excess into the hole, and the
     /// check goes on from that neighbour.
     fn avalanche_into(&mut self, c: usize) {
+        self.avalanche(c, false);
+    }
+
+    /// The avalanche walk from `c`: `downhill` moves slabs from the walking cell to its
+    /// lowest-excess neighbour, otherwise from the highest-excess neighbour into it.
+    fn avalanche(&mut self, c: usize, downhill: bool) {
         let (slab, le, ld) = {
             let w = self.werner();
             (w.slab, w.repose_edge, w.repose_diag)
@@ -208,17 +189,19 @@ impl DuneModel {
             for (k, &(nb, nx, nrow)) in self.moore(x, row).iter().enumerate() {
                 let lim = if k % 2 == 0 { le } else { ld };
                 let hn = self.h[nb];
-                if hn > hc + lim && hn - hc - lim > best_excess {
-                    best_excess = hn - hc - lim;
+                let (hi, lo) = if downhill { (hc, hn) } else { (hn, hc) };
+                if hi > lo + lim && hi - lo - lim > best_excess {
+                    best_excess = hi - lo - lim;
                     best = Some((nb, nx, nrow));
                 }
             }
             let Some((nb, nx, nrow)) = best else {
                 return;
             };
-            self.h[nb] -= slab;
-            self.h[c] += slab;
-            self.raise_row_max(c);
+            let (from, to) = if downhill { (c, nb) } else { (nb, c) };
+            self.h[from] -= slab;
+            self.h[to] += slab;
+            self.raise_row_max(to);
             (x, row) = (nx, nrow);
         }
     }
