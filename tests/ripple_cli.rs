@@ -94,6 +94,10 @@ fn scene_file_and_bad_input() {
     let o = cellsurf(&["ripple", "--avalanche-angle", "95"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("avalanche_angle"));
+    // A negative value reaches the range check, which names the parameter.
+    let o = cellsurf(&["ripple", "--d50", "-1"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("d50 = -1"));
     let o = cellsurf(&["ripple", "--steps", "10", "--snapshots", "20"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("snapshots"));

@@ -16,8 +16,10 @@ use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
 
-/// Options of `cellsurf ripple`.
+/// Options of `cellsurf ripple`. Negative numbers are read as values, so that the model's
+/// range checks (not the argument parser) report them with the valid range.
 #[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Scene file (TOML) with the same keys as the options (e.g. `current_angle = 30`).
     #[arg(long, value_name = "FILE.toml")]
