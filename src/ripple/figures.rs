@@ -3,7 +3,7 @@
 //!
 //! Sizes are reduced so that all of them together take well under a minute in release: the
 //! figure run is the scene `scenarios/ripple_fig3.toml` (128 x 64 columns x 30 automata,
-//! 3000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
+//! 10000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
