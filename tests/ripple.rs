@@ -311,6 +311,29 @@ fn zero_current_moves_nothing() {
 }
 
 #[test]
+fn current_below_the_threshold_of_motion_picks_nothing() {
+    // d50 0.2 mm, one size: tau_cr = 0.176 N/m^2 (Soulsby Example 6.3), so with C_D = 0.0025
+    // the threshold speed is sqrt(0.176 / (1027 x 0.0025)) = 0.262 m/s.
+    let run = |speed: f64| {
+        let mut r = Ripple::new(&RippleParams {
+            nx: 16,
+            ny: 12,
+            layers: 8,
+            sorting: 0.0,
+            current_speed: speed,
+            ..RippleParams::default()
+        })
+        .unwrap();
+        r.run(20, |_| {});
+        r.stats()
+    };
+    let below = run(0.25);
+    assert_eq!((below.picks, below.activations), (0, 0));
+    let above = run(0.28);
+    assert!(above.activations > 0, "{above:?}");
+}
+
+#[test]
 fn current_strong_enough_to_expose_every_grain() {
     let r = extreme(|p| {
         p.current_speed = 10.0;
