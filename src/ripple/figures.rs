@@ -249,17 +249,17 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     lattice_panels(
         &path,
         &format!(
-            "Fig. 3: elevation {:.1}-{:.1} mm; wavelength {:.1} cm, height {:.2} cm, RI {:.1}",
+            "Fig. 3 ({:.0}-{:.0} mm): wavelength {:.1} cm, height {:.2} cm, lee {:.0} deg",
             lo * 1e3,
             hi * 1e3,
             an.wavelength_m * 100.0,
             an.height_m * 100.0,
-            an.ripple_index
+            an.lee_slope_deg
         ),
         &panels,
-        1,
+        2,
         &ramp_palette(),
-        900,
+        1400,
     )?;
     Ok(vec![path])
 }
