@@ -505,6 +505,66 @@ fn netcdf_output_has_the_cdf_magic_and_opens_if_a_reader_is_installed() {
 }
 
 #[test]
+fn netcdf_round_trip_gives_back_what_the_run_computed() {
+    let p = RippleParams {
+        steps: 12,
+        seed: 17,
+        ..small()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    let snaps = run_recording(&mut r, 12, &[0, 12], |_| {});
+    let spec = OutputSpec {
+        fields: Field::ALL.to_vec(),
+        format: Format::NetCdf,
+    };
+    let path = tmp("roundtrip.nc");
+    write_netcdf(&path, &r, &snaps, &spec).unwrap();
+    let f = cellsurf::ripple::input::read(&path).unwrap();
+    assert_eq!((f.nx, f.ny), r.size());
+    assert_eq!(f.nz, cellsurf::ripple::output::volume_levels(&r));
+    assert_eq!(f.times, vec![0, 12]);
+    assert_eq!(f.params, p, "every parameter survives the file");
+    assert_eq!(f.version, cellsurf::ripple::VERSION);
+    assert_eq!(f.elevation[1], snaps[1].1);
+    assert_ne!(f.elevation[0], f.elevation[1], "the snapshots differ");
+    for field in &Field::ALL[1..] {
+        let want = cellsurf::ripple::output::volume_field(&r, *field, f32::NAN);
+        let got = f.field(*field).unwrap();
+        assert_eq!(got.len(), want.len());
+        for (a, b) in got.iter().zip(&want) {
+            assert!(
+                a == b || (a.is_nan() && b.is_nan()),
+                "{field:?}: {a} != {b}"
+            );
+        }
+    }
+    // Only what was asked for is in the file.
+    let spec = OutputSpec {
+        fields: vec![Field::Porosity],
+        format: Format::NetCdf,
+    };
+    write_netcdf(&path, &r, &snaps, &spec).unwrap();
+    let f = cellsurf::ripple::input::read(&path).unwrap();
+    assert!(f.elevation.is_empty());
+    assert_eq!(f.fields.len(), 1);
+    assert!(f.field(Field::Porosity).is_some());
+}
+
+#[test]
+fn reading_a_file_that_is_not_a_ripple_volume_names_the_file() {
+    let path = tmp("not.nc");
+    std::fs::write(&path, b"CDF\x02 but nothing else").unwrap();
+    let e = cellsurf::ripple::input::read(&path)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not.nc"), "{e}");
+    let e = cellsurf::ripple::input::read(&tmp("missing.nc"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing.nc"), "{e}");
+}
+
+#[test]
 fn npy_output_one_file_per_field_and_a_sidecar() {
     let mut r = Ripple::new(&small()).unwrap();
     let snaps = run_recording(&mut r, 5, &[5], |_| {});
