@@ -1,5 +1,6 @@
 //! [`Tile`]: one toroidal ripple tile, its bed elevation and optionally one volume field, taken
-//! from an in-process [`Ripple`] run ([`Tile::from_ripple`], [`tiles_from_run`]) or given
+//! from an in-process [`Ripple`] run ([`Tile::from_ripple`], [`tiles_from_run`]), from a ripple
+//! NetCDF file ([`tiles_from_file`]) or given
 //! directly ([`Tile::from_elevation`]); [`check_pool`] checks that tiles can share a mosaic.
 
 use super::TileError;
@@ -223,4 +224,83 @@ pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
         }
     }
     Ok(())
+}
+
+/// The tiles of a ripple NetCDF file ([`crate::ripple::input::read`]): one per snapshot step of
+/// `steps` (default: the last snapshot), with the volume field `field` if asked. The file holds
+/// the volume of its final state only, so a volume goes with the last snapshot alone. Errors
+/// name the file, the step or the field that is missing.
+pub fn tiles_from_file(
+    path: &std::path::Path,
+    steps: Option<&[u64]>,
+    field: Option<Field>,
+) -> Result<Vec<Tile>, TileError> {
+    let f = crate::ripple::input::read(path)?;
+    let name = path.display().to_string();
+    let last = f.times.len().checked_sub(1).ok_or_else(|| {
+        TileError::range(
+            "tile",
+            &name,
+            "a ripple file with at least one elevation snapshot",
+        )
+    })?;
+    let picks: Vec<usize> = match steps {
+        None => vec![last],
+        Some(s) => s
+            .iter()
+            .map(|t| {
+                f.times.iter().position(|x| x == t).ok_or_else(|| {
+                    TileError::range(
+                        "snapshots",
+                        t,
+                        format!("a snapshot step of {name}: {:?}", f.times),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let volume = match field.filter(|f| *f != Field::Elevation) {
+        None => None,
+        Some(fl) => {
+            let data = f.field(fl).ok_or_else(|| {
+                TileError::range(
+                    "volume",
+                    fl.name(),
+                    format!("a volume field written in {name}"),
+                )
+            })?;
+            if let Some(&i) = picks.iter().find(|&&i| i != last) {
+                return Err(TileError::range(
+                    "snapshots",
+                    f.times[i],
+                    format!(
+                        "the last snapshot ({}) with a volume: {name} holds the final volume only",
+                        f.times[last]
+                    ),
+                ));
+            }
+            Some(TileVolume {
+                field: fl,
+                nz: f.nz,
+                data: data.to_vec(),
+            })
+        }
+    };
+    picks
+        .into_iter()
+        .map(|i| {
+            let t = Tile {
+                nx: f.nx,
+                ny: f.ny,
+                bin_size: f.bin_size,
+                layer_thickness: f.layer_thickness,
+                current_angle: f.params.current_angle,
+                elevation: f.elevation[i].clone(),
+                volume: volume.clone(),
+                label: format!("{name}, step {}", f.times[i]),
+            };
+            t.validate()?;
+            Ok(t)
+        })
+        .collect()
 }
