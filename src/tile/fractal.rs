@@ -17,6 +17,9 @@
 //! `1 / wavelength` (relative width 1/4) times `cos^2` of the angle between `k` and the current,
 //! so the dunes are mostly transverse to the current, with the same random phases and
 //! amplitudes.
+//!
+//! Between nodes the height is bicubic (Catmull-Rom) and the slope bilinear in the node
+//! slopes (central differences), both periodic.
 
 use std::f64::consts::PI;
 
@@ -268,9 +271,29 @@ impl DuneField {
             + ay * ((1.0 - ax) * at(i0, j1) + ax * at(i1, j1))
     }
 
-    /// Height at `(x, y)` m, bilinear between nodes, periodic.
+    /// Height at `(x, y)` m, periodic: bicubic (Catmull-Rom) between nodes, so that it passes
+    /// through the nodes and its slope is continuous (bilinear facets would show in shaded
+    /// relief and in the acoustic normals).
     pub fn height(&self, x: f64, y: f64) -> f64 {
-        self.bilinear(&self.h, x, y)
+        let (fx, fy) = (x / self.dx, y / self.dy);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let cr = |p: [f64; 4], t: f64| {
+            p[1] + 0.5
+                * t
+                * (p[2] - p[0]
+                    + t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3]
+                        + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])))
+        };
+        let mut col = [0.0; 4];
+        for (k, c) in col.iter_mut().enumerate() {
+            let j = (y0 as i64 + k as i64 - 1).rem_euclid(ny) as usize;
+            let row = &self.h[j * self.nx..(j + 1) * self.nx];
+            let at = |d: i64| row[(x0 as i64 + d).rem_euclid(nx) as usize];
+            *c = cr([at(-1), at(0), at(1), at(2)], tx);
+        }
+        cr(col, ty)
     }
 
     /// Slope `(dh/dx, dh/dy)` at `(x, y)` m: central differences at the nodes, bilinear between.
@@ -396,6 +419,26 @@ mod tests {
         })
         .unwrap();
         assert!(flat.h.iter().all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn cubic_height_hits_the_nodes_and_wraps() {
+        let f = DuneField::synthesize(&FbmParams {
+            dx: 0.5,
+            dy: 0.25,
+            ..fbm(16, 0.6, 2)
+        })
+        .unwrap();
+        for (i, j) in [(0, 0), (3, 7), (15, 15)] {
+            let h = f.height(i as f64 * 0.5, j as f64 * 0.25);
+            assert!((h - f.h[j * 16 + i]).abs() < 1e-12);
+        }
+        let (lx, ly) = f.period();
+        assert!((f.height(1.3, 0.7) - f.height(1.3 - lx, 0.7 + 2.0 * ly)).abs() < 1e-12);
+        // a linear ramp along x (inside one period) is reproduced between nodes
+        let ramp: Vec<f64> = (0..64).map(|c| (c % 8) as f64).collect();
+        let r = DuneField::from_grid(8, 8, 1.0, 1.0, ramp).unwrap();
+        assert!((r.height(3.25, 2.5) - 3.25).abs() < 1e-12);
     }
 
     #[test]

@@ -27,7 +27,8 @@
 //!   [`FIGURES`].
 
 pub mod dunes;
-// FIGURES-MOD
+#[cfg(feature = "plot")]
+pub mod figures;
 pub mod fractal;
 pub mod mosaic;
 pub mod seam;
@@ -40,6 +41,10 @@ pub use mosaic::{Choose, Mosaic};
 pub use seam::{SeamMeter, SeamStats};
 pub use stream::{RowSource, StreamFormat, StreamReport, StreamSpec};
 pub use tileset::Tile;
+
+/// The figures of the tiling and the fractal dunes, made by `cellsurf figures`.
+#[cfg(feature = "plot")]
+pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
 
 /// Errors of tiling, fractal relief and streaming.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
