@@ -351,18 +351,13 @@ pub fn radial_spectrum(field: &[f64], nx: usize, ny: usize, dx: f64, dy: f64) ->
 pub fn spectrum_slope(spec: &[(f64, f64)], kmin: f64, kmax: f64) -> Option<f64> {
     let pts: Vec<(f64, f64)> = spec
         .iter()
+        .copied()
         .filter(|(k, p)| *k >= kmin && *k <= kmax && *p > 0.0)
-        .map(|(k, p)| (k.ln(), p.ln()))
         .collect();
     if pts.len() < 3 {
         return None;
     }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
+    crate::cursor::stats::loglog_slope(&pts).map(|(slope, _)| slope)
 }
 
 /// The measured spectral slope of a dune field over the rings from 2 fundamental ring widths to

@@ -24,7 +24,6 @@
 use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 use std::time::Instant;
 
 use netcdf3::{DataSet, FileWriter, NC_FILL_F32, Version};
@@ -63,25 +62,10 @@ pub trait RowSource: Sync {
     }
 }
 
-/// Output format of the stream.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StreamFormat {
-    /// NetCDF-3, 64-bit offset, `y` the record dimension.
-    NetCdf,
-    /// `.npy` files and a JSON sidecar.
-    Npy,
-}
-
-impl FromStr for StreamFormat {
-    type Err = TileError;
-    fn from_str(s: &str) -> Result<Self, TileError> {
-        match s {
-            "netcdf" | "nc" => Ok(StreamFormat::NetCdf),
-            "npy" => Ok(StreamFormat::Npy),
-            _ => Err(TileError::range("format", s, "netcdf or npy")),
-        }
-    }
-}
+/// Output format of the stream: the ripple output's [`Format`](crate::ripple::Format)
+/// (`netcdf`: NetCDF-3, 64-bit offset, `y` the record dimension; `npy`: `.npy` files and a
+/// JSON sidecar).
+pub type StreamFormat = crate::ripple::Format;
 
 /// What to write.
 #[derive(Clone, Debug, PartialEq)]
