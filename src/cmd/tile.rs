@@ -59,10 +59,10 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     snapshots: Option<Vec<u64>>,
     /// Tiles along x and y, MXxMY [default 3x3].
-    #[arg(long, value_name = "MXxMY")]
+    #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
     mosaic: Option<String>,
     /// Surface size in metres, WxH (rounded up to whole tiles); instead of --mosaic.
-    #[arg(long, value_name = "WxH")]
+    #[arg(long, value_name = "WxH", allow_hyphen_values = true)]
     extent: Option<String>,
     /// Tile choice per mosaic cell: same (the first tile) or patches (seeded random).
     #[arg(long, default_value = "same")]
