@@ -164,7 +164,7 @@ fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     line_charts(
         &path2,
         &format!(
-            "Seam statistic: mean |h(i+1) - h(i)| over rows; tile edges at i + 1 = {}, {}, {}",
+            "Mean |h(i+1) - h(i)| over rows; tile edges at i + 1 = {}, {}, {}",
             tile.0,
             2 * tile.0,
             3 * tile.0
@@ -301,9 +301,10 @@ fn fig9(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let path2 = dir.join("ripple_fig9_dune_spectrum.png");
     line_charts(
         &path2,
-        "fBm dune relief by spectral synthesis (Saupe 1988): radially averaged power, fitted from 2 rings to half Nyquist",
+        "fBm relief (Saupe 1988 synthesis): radial power spectrum",
         &[Chart {
-            title: "curves offset by factors of 100".into(),
+            title: "curves offset by factors of 100; slopes fitted from 2 rings to half Nyquist"
+                .into(),
             x_label: "wavenumber K (cycles/m)".into(),
             y_label: "power (arbitrary units)".into(),
             series,
