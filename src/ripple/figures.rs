@@ -3,7 +3,7 @@
 //!
 //! Sizes are reduced so that all of them together take well under a minute in release: the
 //! figure run is the scene `scenarios/ripple_fig3.toml` (128 x 64 columns x 30 automata,
-//! 3000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
+//! 10000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -249,17 +249,17 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     lattice_panels(
         &path,
         &format!(
-            "Fig. 3: elevation {:.1}-{:.1} mm; wavelength {:.1} cm, height {:.2} cm, RI {:.1}",
+            "Fig. 3 ({:.0}-{:.0} mm): wavelength {:.1} cm, height {:.2} cm, lee {:.0} deg",
             lo * 1e3,
             hi * 1e3,
             an.wavelength_m * 100.0,
             an.height_m * 100.0,
-            an.ripple_index
+            an.lee_slope_deg
         ),
         &panels,
-        1,
+        2,
         &ramp_palette(),
-        900,
+        1400,
     )?;
     Ok(vec![path])
 }

@@ -28,6 +28,7 @@ pub mod figures;
 pub mod grain;
 pub mod input;
 pub mod model;
+pub mod morphometry;
 pub mod output;
 pub mod params;
 pub mod rules;
