@@ -27,4 +27,5 @@ pub mod sampler;
 pub mod scene;
 pub mod sumtree;
 pub mod surface;
+pub mod tile;
 pub mod windripples;

@@ -2,4 +2,5 @@
 pub mod cursor;
 pub mod dunes;
 pub mod ripple;
+pub mod tile;
 pub mod windripples;

@@ -59,7 +59,7 @@ fn model_err(e: impl std::fmt::Display) -> FigureError {
 }
 
 /// A perceptual blue-green-yellow ramp (anchors chosen by eye, viridis-like), 256 entries.
-fn ramp_palette() -> Palette {
+pub(crate) fn ramp_palette() -> Palette {
     const A: [(f64, (f64, f64, f64)); 5] = [
         (0.0, (68.0, 1.0, 84.0)),
         (0.25, (59.0, 82.0, 139.0)),
@@ -82,7 +82,7 @@ fn ramp_palette() -> Palette {
 
 /// States 1..=255 for finite values scaled over [lo, hi]; 0 for NaN (drawn in the ramp's
 /// darkest colour, used as "no data" in sections: there the palette entry 0 is set white).
-fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
+pub(crate) fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
     let span = if hi > lo { hi - lo } else { 1.0 };
     v.iter()
         .map(|&x| {
@@ -95,7 +95,7 @@ fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
         .collect()
 }
 
-fn range_of(v: &[f64]) -> (f64, f64) {
+pub(crate) fn range_of(v: &[f64]) -> (f64, f64) {
     v.iter()
         .filter(|x| x.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
@@ -103,7 +103,7 @@ fn range_of(v: &[f64]) -> (f64, f64) {
         })
 }
 
-fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
+pub(crate) fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
     CellField {
         nx,
         ny,

@@ -221,12 +221,17 @@ fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     }
 }
 
-/// The parameters as (name, value) pairs, values as TOML scalars.
-fn param_pairs(r: &Ripple) -> Vec<(String, toml::Value)> {
-    match toml::Value::try_from(r.params()) {
+/// The fields of a serialisable parameter set as (name, value) pairs, values as TOML values.
+pub fn toml_pairs<T: serde::Serialize>(params: &T) -> Vec<(String, toml::Value)> {
+    match toml::Value::try_from(params) {
         Ok(toml::Value::Table(t)) => t.into_iter().collect(),
         _ => Vec::new(),
     }
+}
+
+/// The parameters as (name, value) pairs, values as TOML scalars.
+fn param_pairs(r: &Ripple) -> Vec<(String, toml::Value)> {
+    toml_pairs(r.params())
 }
 
 /// Writes the NetCDF-3 file (64-bit offset) at `path`, atomically.
@@ -410,8 +415,10 @@ pub fn write_netcdf(
     result
 }
 
-/// The bytes of a little-endian f32 `.npy` (format 1.0) of `shape`.
-pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
+/// The header of a little-endian f32 `.npy` (format 1.0, C order) of `shape`, padded so that
+/// the data starts on a 64-byte boundary: the data (`shape` product x 4 bytes) may follow it
+/// as a whole or be appended row by row.
+pub fn npy_header(shape: &[usize]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape_s = if dims.len() == 1 {
         format!("({},)", dims[0])
@@ -423,17 +430,25 @@ pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
     let pad = (64 - total % 64) % 64;
     header.push_str(&" ".repeat(pad));
     header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + data.len() * 4);
+    let mut out = Vec::with_capacity(10 + header.len());
     out.extend_from_slice(b"\x93NUMPY\x01\x00");
     out.extend_from_slice(&(header.len() as u16).to_le_bytes());
     out.extend_from_slice(header.as_bytes());
+    out
+}
+
+/// The bytes of a little-endian f32 `.npy` (format 1.0) of `shape`.
+pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
+    let mut out = npy_header(shape);
+    out.reserve(data.len() * 4);
     for v in data {
         out.extend_from_slice(&v.to_le_bytes());
     }
     out
 }
 
-fn json_string(s: &str) -> String {
+/// A JSON string literal of `s` (quotes and control characters escaped).
+pub fn json_string(s: &str) -> String {
     let mut o = String::from("\"");
     for ch in s.chars() {
         match ch {

@@ -53,24 +53,7 @@ pub struct Analysis {
 pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64) {
     let mean = field.iter().sum::<f64>() / field.len() as f64;
     let mut buf: Vec<Complex<f64>> = field.iter().map(|&v| Complex::new(v - mean, 0.0)).collect();
-    let mut planner = FftPlanner::<f64>::new();
-    let fx = planner.plan_fft_forward(nx);
-    for row in buf.chunks_exact_mut(nx) {
-        fx.process(row);
-    }
-    if ny > 1 {
-        let fy = planner.plan_fft_forward(ny);
-        let mut col = vec![Complex::new(0.0, 0.0); ny];
-        for x in 0..nx {
-            for y in 0..ny {
-                col[y] = buf[y * nx + x];
-            }
-            fy.process(&mut col);
-            for y in 0..ny {
-                buf[y * nx + x] = col[y];
-            }
-        }
-    }
+    fft2(&mut buf, nx, ny, false);
     let freq = |i: usize, n: usize| -> f64 {
         if i <= n / 2 {
             i as f64
@@ -110,6 +93,39 @@ pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64)
     let wl = w / kk;
     let ang = (0.5 * s2.atan2(c2)).to_degrees().rem_euclid(180.0);
     (wl, if ang >= 180.0 - 1e-9 { 0.0 } else { ang })
+}
+
+/// In-place 2-D FFT of a row-major `nx x ny` complex field (rows, then columns; rustfft),
+/// forward or inverse (unnormalised: a forward and an inverse transform multiply by `nx ny`).
+pub fn fft2(buf: &mut [Complex<f64>], nx: usize, ny: usize, inverse: bool) {
+    if nx == 0 || ny == 0 || buf.len() != nx * ny {
+        return;
+    }
+    let mut planner = FftPlanner::<f64>::new();
+    let plan = |planner: &mut FftPlanner<f64>, n: usize| {
+        if inverse {
+            planner.plan_fft_inverse(n)
+        } else {
+            planner.plan_fft_forward(n)
+        }
+    };
+    let fx = plan(&mut planner, nx);
+    for row in buf.chunks_exact_mut(nx) {
+        fx.process(row);
+    }
+    if ny > 1 {
+        let fy = plan(&mut planner, ny);
+        let mut col = vec![Complex::new(0.0, 0.0); ny];
+        for x in 0..nx {
+            for y in 0..ny {
+                col[y] = buf[y * nx + x];
+            }
+            fy.process(&mut col);
+            for y in 0..ny {
+                buf[y * nx + x] = col[y];
+            }
+        }
+    }
 }
 
 /// The 8-cell Moore average (with the cell itself) of a field on the run's lattice.
