@@ -125,7 +125,7 @@ fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     lattice_panels(
         &path,
         &format!(
-            "Fig. 6: 3 x 3 tiles of {} x {} bins, {:.1}-{:.1} mm, borders dashed",
+            "Fig. 6: 3 x 3 tiles, {} x {} bins, {:.0}-{:.0} mm",
             tile.0,
             tile.1,
             lo * 1e3,
