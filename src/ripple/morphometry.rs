@@ -49,50 +49,47 @@ impl Faces {
 /// period of the dominant axis.
 pub fn flow_profiles(z: &[f64], nx: usize, ny: usize, dx: f64, angle: f64) -> (Vec<Vec<f64>>, f64) {
     let (c, s) = (angle.cos(), angle.sin());
+    if ny == 1 {
+        let p = if c >= 0.0 {
+            z.to_vec()
+        } else {
+            (0..nx).map(|j| z[(nx - j) % nx]).collect()
+        };
+        return (vec![p], dx);
+    }
+    if c.abs() >= s.abs() {
+        along_x(z, nx, ny, dx, c, s)
+    } else {
+        // A current closer to y: the same march on the transposed field, x and y swapped.
+        let zt: Vec<f64> = (0..nx * ny).map(|i| z[(i % ny) * nx + i / ny]).collect();
+        along_x(&zt, ny, nx, dx, s, c)
+    }
+}
+
+/// Profiles marching along x (one per row, `|cos| >= |sin|`), y drifting by `tan` per bin,
+/// with linear interpolation between rows.
+fn along_x(z: &[f64], nx: usize, ny: usize, dx: f64, c: f64, s: f64) -> (Vec<Vec<f64>>, f64) {
     let at = |x: isize, y: isize| {
         let x = x.rem_euclid(nx as isize) as usize;
         let y = y.rem_euclid(ny as isize) as usize;
         z[y * nx + x]
     };
-    if ny == 1 || c.abs() >= s.abs() {
-        // march along x, one profile per row; y drifts by tan(angle) per bin
-        let t = if ny == 1 { 0.0 } else { s / c };
-        let step = dx / c.abs().max(f64::MIN_POSITIVE);
-        let step = if ny == 1 { dx } else { step };
-        let forward = c >= 0.0;
-        let profiles = (0..ny)
-            .map(|y0| {
-                (0..nx)
-                    .map(|j| {
-                        let i = if forward { j as isize } else { -(j as isize) };
-                        let yf = y0 as f64 + t * i as f64;
-                        let y = yf.floor();
-                        let w = yf - y;
-                        (1.0 - w) * at(i, y as isize) + w * at(i, y as isize + 1)
-                    })
-                    .collect()
-            })
-            .collect();
-        (profiles, step)
-    } else {
-        let t = c / s;
-        let step = dx / s.abs();
-        let forward = s >= 0.0;
-        let profiles = (0..nx)
-            .map(|x0| {
-                (0..ny)
-                    .map(|j| {
-                        let i = if forward { j as isize } else { -(j as isize) };
-                        let xf = x0 as f64 + t * i as f64;
-                        let x = xf.floor();
-                        let w = xf - x;
-                        (1.0 - w) * at(x as isize, i) + w * at(x as isize + 1, i)
-                    })
-                    .collect()
-            })
-            .collect();
-        (profiles, step)
-    }
+    let t = s / c;
+    let sign = if c >= 0.0 { 1 } else { -1 };
+    let profiles = (0..ny)
+        .map(|y0| {
+            (0..nx as isize)
+                .map(|j| {
+                    let i = sign * j;
+                    let yf = y0 as f64 + t * i as f64;
+                    let y = yf.floor();
+                    let w = yf - y;
+                    (1.0 - w) * at(i, y as isize) + w * at(i, y as isize + 1)
+                })
+                .collect()
+        })
+        .collect();
+    (profiles, dx / c.abs())
 }
 
 /// Alternating extrema of `p` with hysteresis `delta`: (index, is_crest), in order. Extrema

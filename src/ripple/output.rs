@@ -229,9 +229,33 @@ pub fn toml_pairs<T: serde::Serialize>(params: &T) -> Vec<(String, toml::Value)>
     }
 }
 
-/// The parameters as (name, value) pairs, values as TOML scalars.
-fn param_pairs(r: &Ripple) -> Vec<(String, toml::Value)> {
-    toml_pairs(r.params())
+/// Adds the provenance every cellsurf NetCDF file carries as global attributes:
+/// `Conventions` (CF-1.8), `title`, `source` (`cellsurf VERSION command`),
+/// `cellsurf_version`, `comment`, and one `param_NAME` per parameter (numbers and booleans as
+/// doubles, the rest as text).
+pub fn add_provenance(
+    ds: &mut DataSet,
+    title: &str,
+    command: &str,
+    comment: &str,
+    params: &[(String, toml::Value)],
+) -> Result<(), netcdf3::InvalidDataSet> {
+    ds.add_global_attr_string("Conventions", "CF-1.8")?;
+    ds.add_global_attr_string("title", title)?;
+    ds.add_global_attr_string("source", format!("cellsurf {VERSION} {command}"))?;
+    ds.add_global_attr_string("cellsurf_version", VERSION)?;
+    ds.add_global_attr_string("comment", comment)?;
+    for (k, v) in params {
+        let name = format!("param_{k}");
+        match v {
+            toml::Value::Integer(i) => ds.add_global_attr_f64(&name, vec![*i as f64]),
+            toml::Value::Float(f) => ds.add_global_attr_f64(&name, vec![*f]),
+            toml::Value::Boolean(b) => ds.add_global_attr_f64(&name, vec![f64::from(u8::from(*b))]),
+            toml::Value::String(s) => ds.add_global_attr_string(&name, s),
+            other => ds.add_global_attr_string(&name, other.to_string()),
+        }?;
+    }
+    Ok(())
 }
 
 /// Writes the NetCDF-3 file (64-bit offset) at `path`, atomically.
@@ -339,36 +363,18 @@ pub fn write_netcdf(
                 .map_err(|x| out_err(path, x))?;
         }
     }
-    ds.add_global_attr_string("Conventions", "CF-1.8")
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string(
-        "title",
+    add_provenance(
+        &mut ds,
         "Sand ripple volume (cellular automaton Monte Carlo, Staelens, Dupont & Henriet)",
-    )
-    .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("source", format!("cellsurf {VERSION} ripple"))
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("cellsurf_version", VERSION)
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string(
-        "comment",
+        "ripple",
         "Toroidal (periodic in x and y): the volume tiles without seams.",
+        &toml_pairs(p),
     )
     .map_err(|x| out_err(path, x))?;
     ds.add_global_attr_f64("steps_done", vec![r.time() as f64])
         .map_err(|x| out_err(path, x))?;
     ds.add_global_attr_f64("automata", vec![r.automata() as f64])
         .map_err(|x| out_err(path, x))?;
-    for (k, v) in param_pairs(r) {
-        let name = format!("param_{k}");
-        match v {
-            toml::Value::Integer(i) => ds.add_global_attr_f64(&name, vec![i as f64]),
-            toml::Value::Float(f) => ds.add_global_attr_f64(&name, vec![f]),
-            toml::Value::String(s) => ds.add_global_attr_string(&name, s),
-            other => ds.add_global_attr_string(&name, other.to_string()),
-        }
-        .map_err(|x| out_err(path, x))?;
-    }
 
     let tmp = crate::io::temp_path(path);
     let result = (|| -> Result<(), RippleError> {
@@ -511,7 +517,7 @@ pub fn write_npy(
         written.push(path);
     }
     let mut params = Vec::new();
-    for (k, v) in param_pairs(r) {
+    for (k, v) in toml_pairs(r.params()) {
         let val = match v {
             toml::Value::String(s) => json_string(&s),
             toml::Value::Float(f) if !f.is_finite() => "null".into(),

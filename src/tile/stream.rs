@@ -33,7 +33,7 @@ use serde::Serialize;
 use super::TileError;
 use super::seam::{SeamMeter, SeamStats};
 use crate::ripple::VERSION;
-use crate::ripple::output::{Field, json_string, npy_header};
+use crate::ripple::output::{Field, add_provenance, json_string, npy_header};
 
 /// A surface computed row by row.
 pub trait RowSource: Sync {
@@ -291,30 +291,14 @@ fn write_netcdf_stream(
         ds.add_var_attr_f32(f.name(), "_FillValue", vec![NC_FILL_F32])
             .map_err(|x| out_err(path, x))?;
     }
-    ds.add_global_attr_string("Conventions", "CF-1.8")
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("title", &spec.title)
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("source", format!("cellsurf {VERSION} tile"))
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("cellsurf_version", VERSION)
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string(
-        "comment",
+    add_provenance(
+        &mut ds,
+        &spec.title,
+        "tile",
         "Mosaic of toroidal ripple tiles, written row by row (y is the record dimension); periodic in x and y.",
+        &spec.params,
     )
     .map_err(|x| out_err(path, x))?;
-    for (k, v) in &spec.params {
-        let name = format!("param_{k}");
-        match v {
-            toml::Value::Integer(i) => ds.add_global_attr_f64(&name, vec![*i as f64]),
-            toml::Value::Float(f) => ds.add_global_attr_f64(&name, vec![*f]),
-            toml::Value::Boolean(b) => ds.add_global_attr_f64(&name, vec![f64::from(u8::from(*b))]),
-            toml::Value::String(s) => ds.add_global_attr_string(&name, s),
-            other => ds.add_global_attr_string(&name, other.to_string()),
-        }
-        .map_err(|x| out_err(path, x))?;
-    }
 
     let tmp = crate::io::temp_path(path);
     let result = (|| -> Result<(), TileError> {
