@@ -2,6 +2,8 @@
 //! shape, grain sorting, stiff and extreme cases, invalid parameters, and the output files.
 //! Small grids and few steps keep the suite fast; long runs are `#[ignore]`d.
 
+mod common;
+
 use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
 use cellsurf::ripple::{
     Abstraction, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleError, RippleParams,
@@ -519,9 +521,7 @@ fn same_seed_same_volume() {
 }
 
 fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-ripple-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("ripple", name)
 }
 
 #[test]

@@ -3,6 +3,8 @@
 //! in-memory mosaic, the fBm spectrum slope and periodicity, ripples re-oriented by the current,
 //! and the extreme cases (zero sizes, a mosaic of one tile).
 
+mod common;
+
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
@@ -53,9 +55,7 @@ fn seams(src: &dyn RowSource) -> SeamStats {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-tile-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("tile", name)
 }
 
 #[test]

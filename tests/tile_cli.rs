@@ -3,20 +3,15 @@
 //! naming the parameter and a non-zero exit.
 #![cfg(feature = "cli")]
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn cellsurf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-        .args(args)
-        .output()
-        .expect("run cellsurf")
-}
+use std::path::PathBuf;
+use std::process::Output;
+
+use common::cellsurf;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-tile-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("tile-cli", name)
 }
 
 const GEN: &[&str] = &[
