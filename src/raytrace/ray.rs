@@ -1,0 +1,576 @@
+//! [`Tracer`]: 2-D rays through c(z), reflected at the sea surface and at a [`Seafloor`].
+//!
+//! The ray equations are BELLHOP's (Porter, "The BELLHOP Manual and User's Guide", 2011;
+//! PHYSICS.md "Ray acoustics"), in arc length s:
+//! dx/ds = c t_x, dz/ds = c t_z, dt_x/ds = -c_x / c^2 = 0, dt_z/ds = -c_z / c^2,
+//! d tau/ds = 1 / c, with t = (cos theta, sin theta) / c. They are integrated by the classical
+//! fourth-order Runge-Kutta scheme with a fixed step `ds` (BELLHOP uses a second-order scheme;
+//! RK4 makes the error of a step O(ds^5) in a smooth profile). Because c depends on z only,
+//! t_x stays exactly constant: the error shows as |t| drifting off 1/c, which is what the Snell
+//! invariant xi = cos(theta) / c measures ([`Ray::max_snell_drift`]). A step that would cross a
+//! profile table row is shortened to end on it, as BELLHOP does, so that RK4 never straddles a
+//! gradient jump.
+//!
+//! Boundaries: each step's chord is tested against the surface z = 0 and the floor's segments
+//! ([`Seafloor::first_crossing`]). At a crossing at chord fraction f the step is redone with
+//! length f ds and the point moved onto the boundary (along the new chord), so the reflection
+//! point is off the true curved path by at most ds^2 / (8 R), R the radius of curvature
+//! (2e-9 m for ds = 0.05 m and R = 150 m). The direction is reflected exactly:
+//! t' = t - 2 (t.n) n, n the boundary's unit normal.
+//!
+//! Termination: at most `max_path / ds + 4 max_bounces + 16` steps, `max_bounces`
+//! reflections, the end of the floor's range, or (if asked) the first floor hit.
+
+use super::seafloor::Seafloor;
+use super::{RaytraceError, SoundSpeed, check_range};
+
+/// Options of a trace.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceOptions {
+    /// Arc-length step, m.
+    pub ds: f64,
+    /// Longest path, m.
+    pub max_path: f64,
+    /// Most reflections (surface and floor together).
+    pub max_bounces: usize,
+    /// End the ray at its first floor hit.
+    pub stop_at_bottom: bool,
+    /// Keep the path points.
+    pub record: bool,
+}
+
+impl TraceOptions {
+    /// Checks the options.
+    pub fn validate(&self) -> Result<(), RaytraceError> {
+        check_range("ds", self.ds, 1e-6, 1e5, "m")?;
+        check_range("max path", self.max_path, self.ds, 1e8, "m (at least ds)")?;
+        if self.max_bounces > 100_000 {
+            return Err(super::range_err(
+                "max bounces",
+                self.max_bounces,
+                "an integer in [0, 100000]",
+            ));
+        }
+        let steps = self.max_path / self.ds;
+        if steps > 1e9 {
+            return Err(super::range_err(
+                "max path / ds",
+                steps,
+                "at most 1e9 steps a ray",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The hard cap on the steps of one ray.
+    pub fn max_steps(&self) -> usize {
+        (self.max_path / self.ds).ceil() as usize + 4 * self.max_bounces + 16
+    }
+}
+
+/// Which boundary reflected a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface {
+    /// The sea surface z = 0.
+    Sea,
+    /// Floor segment `segment` at fraction `u` of it.
+    Floor {
+        /// Segment index.
+        segment: usize,
+        /// Fraction along the segment.
+        u: f64,
+    },
+}
+
+/// A reflection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reflection {
+    /// Where.
+    pub at: Surface,
+    /// Range, m.
+    pub x: f64,
+    /// Depth, m.
+    pub z: f64,
+    /// Travel time from the source, s.
+    pub tau: f64,
+    /// Path length from the source, m.
+    pub s: f64,
+    /// Grazing angle between the incoming ray and the boundary, radians, in [0, pi/2].
+    pub grazing: f64,
+    /// Unit direction of the incoming ray (dx, dz).
+    pub dir: (f64, f64),
+}
+
+/// Why a ray ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayEnd {
+    /// It reached the longest path.
+    PathLength,
+    /// It reached the most reflections.
+    Bounces,
+    /// It left the floor's range.
+    LeftFloor,
+    /// It hit the floor (with `stop_at_bottom`).
+    Floor,
+    /// It used the most steps (a safety cap, not reached in normal runs).
+    Steps,
+}
+
+impl RayEnd {
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            RayEnd::PathLength => "path_length",
+            RayEnd::Bounces => "bounces",
+            RayEnd::LeftFloor => "left_floor",
+            RayEnd::Floor => "floor",
+            RayEnd::Steps => "steps",
+        }
+    }
+}
+
+/// A traced ray.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ray {
+    /// Launch angle, degrees below the horizontal.
+    pub launch_deg: f64,
+    /// Path points (x, z, tau) if recorded, the source first.
+    pub path: Vec<[f64; 3]>,
+    /// Reflections in order.
+    pub reflections: Vec<Reflection>,
+    /// Why it ended.
+    pub end: RayEnd,
+    /// Steps taken (including redone boundary steps).
+    pub steps: usize,
+    /// Path length, m.
+    pub length: f64,
+    /// Largest |xi / xi_leg - 1| over the path, xi = cos(theta) / c(z) measured from the
+    /// ray's direction and xi_leg its value at the start of the leg (source or last reflection;
+    /// a sloping floor changes xi). 0 for a vertical ray.
+    pub max_snell_drift: f64,
+}
+
+impl Ray {
+    /// The first floor reflection.
+    pub fn first_floor_hit(&self) -> Option<&Reflection> {
+        self.reflections
+            .iter()
+            .find(|r| matches!(r.at, Surface::Floor { .. }))
+    }
+    /// Sea-surface reflections before the first floor hit.
+    pub fn surface_bounces_before_floor(&self) -> usize {
+        self.reflections
+            .iter()
+            .take_while(|r| r.at == Surface::Sea)
+            .count()
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct State {
+    x: f64,
+    z: f64,
+    tz: f64,
+    tau: f64,
+    s: f64,
+}
+
+/// A profile and a floor, checked against each other.
+#[derive(Clone, Copy, Debug)]
+pub struct Tracer<'a> {
+    profile: &'a SoundSpeed,
+    floor: &'a Seafloor,
+}
+
+impl<'a> Tracer<'a> {
+    /// A tracer; the profile must cover the water column down to the deepest floor vertex.
+    pub fn new(profile: &'a SoundSpeed, floor: &'a Seafloor) -> Result<Self, RaytraceError> {
+        profile.check_depth(floor.max_depth())?;
+        Ok(Tracer { profile, floor })
+    }
+
+    /// The profile.
+    pub fn profile(&self) -> &SoundSpeed {
+        self.profile
+    }
+    /// The floor.
+    pub fn floor(&self) -> &Seafloor {
+        self.floor
+    }
+
+    /// Checks that (x0, z0) is in the water above the floor.
+    pub fn check_source(&self, x0: f64, z0: f64) -> Result<(), RaytraceError> {
+        let (a, b) = self.floor.x_range();
+        check_range("source range", x0, a, b, "m (within the seafloor section)")?;
+        let zb = self.floor.depth_at(x0).unwrap_or(0.0);
+        if !(z0 > 0.0 && z0 < zb) {
+            return Err(super::range_err(
+                "source depth",
+                z0,
+                format!("in (0, {zb}) m: below the surface and above the floor at its range"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn deriv(&self, tx: f64, z: f64, tz: f64) -> [f64; 4] {
+        let (c, g) = self.profile.eval(z);
+        [c * tx, c * tz, -g / (c * c), 1.0 / c]
+    }
+
+    fn rk4(&self, tx: f64, p: &State, h: f64) -> State {
+        let k1 = self.deriv(tx, p.z, p.tz);
+        let k2 = self.deriv(tx, p.z + 0.5 * h * k1[1], p.tz + 0.5 * h * k1[2]);
+        let k3 = self.deriv(tx, p.z + 0.5 * h * k2[1], p.tz + 0.5 * h * k2[2]);
+        let k4 = self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2]);
+        let w = |i: usize| h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        State {
+            x: p.x + w(0),
+            z: p.z + w(1),
+            tz: p.tz + w(2),
+            tau: p.tau + w(3),
+            s: p.s + h,
+        }
+    }
+
+    /// The step from `p`: `ds`, shortened to end on the next profile row in the direction of
+    /// travel and at the longest path.
+    fn step_length(&self, p: &State, o: &TraceOptions) -> f64 {
+        let mut h = o.ds.min(o.max_path - p.s);
+        let rows = self.profile.interfaces();
+        if !rows.is_empty() && p.tz != 0.0 {
+            let (c, _) = self.profile.eval(p.z);
+            let dzds = c * p.tz;
+            let next = if dzds > 0.0 {
+                rows.iter().find(|&&r| r > p.z + 1e-9)
+            } else {
+                rows.iter().rev().find(|&&r| r < p.z - 1e-9)
+            };
+            if let Some(&r) = next {
+                let hr = (r - p.z) / dzds;
+                if hr > 1e-6 * o.ds && hr < h {
+                    h = hr;
+                }
+            }
+        }
+        h
+    }
+
+    /// Traces one ray from (x0, z0) at `angle_deg` below the horizontal, in [-90, 90]
+    /// (rays go towards +x; +-90 is straight down or up).
+    pub fn trace(
+        &self,
+        x0: f64,
+        z0: f64,
+        angle_deg: f64,
+        o: &TraceOptions,
+    ) -> Result<Ray, RaytraceError> {
+        o.validate()?;
+        self.check_source(x0, z0)?;
+        check_range(
+            "launch angle",
+            angle_deg,
+            -90.0,
+            90.0,
+            "degrees below the horizontal",
+        )?;
+        Ok(self.trace_unchecked(x0, z0, angle_deg, o))
+    }
+
+    /// [`Tracer::trace`] without the checks (the caller has made them).
+    pub(crate) fn trace_unchecked(
+        &self,
+        x0: f64,
+        z0: f64,
+        angle_deg: f64,
+        o: &TraceOptions,
+    ) -> Ray {
+        let a = angle_deg.to_radians();
+        let (c0, _) = self.profile.eval(z0);
+        let (ca, sa) = if angle_deg.abs() == 90.0 {
+            (0.0, angle_deg.signum())
+        } else {
+            (a.cos(), a.sin())
+        };
+        let mut tx = ca / c0;
+        let mut p = State {
+            x: x0,
+            z: z0,
+            tz: sa / c0,
+            tau: 0.0,
+            s: 0.0,
+        };
+        let mut ray = Ray {
+            launch_deg: angle_deg,
+            path: Vec::new(),
+            reflections: Vec::new(),
+            end: RayEnd::Steps,
+            steps: 0,
+            length: 0.0,
+            max_snell_drift: 0.0,
+        };
+        if o.record {
+            ray.path.push([p.x, p.z, p.tau]);
+        }
+        // |t| c at the start of the leg (1 at the source)
+        let mut leg_norm = 1.0;
+        let (xa, xb) = self.floor.x_range();
+        for _ in 0..o.max_steps() {
+            if p.s >= o.max_path {
+                ray.end = RayEnd::PathLength;
+                break;
+            }
+            let h = self.step_length(&p, o);
+            let q = self.rk4(tx, &p, h);
+            ray.steps += 1;
+            // the earliest boundary crossed by the chord p -> q
+            let sea = (q.z < 0.0).then(|| p.z / (p.z - q.z));
+            let bot = self.floor.first_crossing((p.x, p.z), (q.x, q.z));
+            let hit = match (sea, bot) {
+                (Some(fs), Some(b)) if b.f < fs => Some((b.f, Some(b.segment))),
+                (Some(fs), _) => Some((fs, None)),
+                (None, Some(b)) => Some((b.f, Some(b.segment))),
+                (None, None) => None,
+            };
+            let Some((f, seg)) = hit else {
+                p = q;
+                if o.record {
+                    ray.path.push([p.x, p.z, p.tau]);
+                }
+                ray.max_snell_drift = ray.max_snell_drift.max(self.drift(tx, &p, leg_norm));
+                if p.x < xa || p.x > xb {
+                    ray.end = RayEnd::LeftFloor;
+                    break;
+                }
+                continue;
+            };
+            // redo the step up to the boundary, then put the point on it
+            let hh = (f * h).max(0.0);
+            let q = self.rk4(tx, &p, hh);
+            ray.steps += 1;
+            let (pq0, pq1) = ((p.x, p.z), (q.x, q.z));
+            let (fx, pos, normal, at) = match seg {
+                None => {
+                    let dz = p.z - q.z;
+                    let g = if dz > 0.0 { p.z / dz } else { 1.0 };
+                    let g = if g.is_finite() { g.max(0.0) } else { 1.0 };
+                    let x = p.x + g * (q.x - p.x);
+                    (g, (x, 0.0), (0.0, 1.0), Surface::Sea)
+                }
+                Some(i) => {
+                    let (g, u) = self.floor.line_hit(i, pq0, pq1).unwrap_or((1.0, 0.0));
+                    let g = if g.is_finite() { g.max(0.0) } else { 1.0 };
+                    let pt = self.floor.point(i, u);
+                    (
+                        g,
+                        pt,
+                        self.floor.normal(i),
+                        Surface::Floor { segment: i, u },
+                    )
+                }
+            };
+            let mut r = State {
+                x: pos.0,
+                z: pos.1,
+                tz: q.tz,
+                tau: p.tau + fx * (q.tau - p.tau),
+                s: p.s + fx * hh,
+            };
+            ray.max_snell_drift = ray.max_snell_drift.max(self.drift(tx, &r, leg_norm));
+            let tn = (tx * tx + r.tz * r.tz).sqrt();
+            let dir = (tx / tn, r.tz / tn);
+            let dn = dir.0 * normal.0 + dir.1 * normal.1;
+            ray.reflections.push(Reflection {
+                at,
+                x: r.x,
+                z: r.z,
+                tau: r.tau,
+                s: r.s,
+                grazing: (-dn).clamp(0.0, 1.0).asin(),
+                dir,
+            });
+            // t' = t - 2 (t.n) n
+            let tdotn = tx * normal.0 + r.tz * normal.1;
+            tx -= 2.0 * tdotn * normal.0;
+            r.tz -= 2.0 * tdotn * normal.1;
+            leg_norm = (tx * tx + r.tz * r.tz).sqrt() * self.profile.eval(r.z).0;
+            p = r;
+            if o.record {
+                ray.path.push([p.x, p.z, p.tau]);
+            }
+            if seg.is_some() && o.stop_at_bottom {
+                ray.end = RayEnd::Floor;
+                break;
+            }
+            if ray.reflections.len() >= o.max_bounces {
+                ray.end = RayEnd::Bounces;
+                break;
+            }
+        }
+        ray.length = p.s;
+        ray
+    }
+
+    /// |xi / xi_leg - 1| at state `p`: xi = cos(theta) / c = t_x / (|t| c); t_x is constant in
+    /// a leg, so the ratio is (|t| c)_leg / (|t| c)(s).
+    fn drift(&self, tx: f64, p: &State, leg_norm: f64) -> f64 {
+        if tx == 0.0 {
+            return 0.0;
+        }
+        let norm = (tx * tx + p.tz * p.tz).sqrt() * self.profile.eval(p.z).0;
+        (leg_norm / norm - 1.0).abs()
+    }
+}
+
+/// Radius of the circular ray of a linear profile c = c0 + g z launched at depth `z0` and
+/// angle `theta0` (radians): R = c(z0) / (|g| cos theta0) (PHYSICS.md "Ray acoustics").
+pub fn linear_arc_radius(c0: f64, g: f64, z0: f64, theta0: f64) -> f64 {
+    (c0 + g * z0) / (g.abs() * theta0.cos())
+}
+
+/// Centre (x, z) of that circle for a ray launched at (x0, z0) towards +x: the centre lies on
+/// the depth where c would vanish, z0 - c(z0) / g.
+pub fn linear_arc_centre(c0: f64, g: f64, x0: f64, z0: f64, theta0: f64) -> (f64, f64) {
+    let r = linear_arc_radius(c0, g, z0, theta0);
+    let sign = g.signum();
+    (x0 + sign * r * theta0.sin(), z0 - (c0 + g * z0) / g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn deep() -> Seafloor {
+        Seafloor::flat(-1.0, 200_000.0, 5000.0).unwrap()
+    }
+
+    #[test]
+    fn linear_profile_arc_radius() {
+        // PHYSICS.md: c0 = 1500, g = 0.017 1/s, theta0 = 10 deg -> R = 89.6 km
+        let (c0, g) = (1500.0, 0.017);
+        let th = 10f64.to_radians();
+        let r = linear_arc_radius(c0, g, 0.0, th);
+        assert!((r - 89_600.0).abs() < 50.0, "R = {r}");
+        let p = SoundSpeed::Linear { c0, g };
+        let floor = deep();
+        let t = Tracer::new(&p, &floor).unwrap();
+        let z0 = 1.0;
+        let o = TraceOptions {
+            ds: 200.0,
+            max_path: 25_000.0,
+            max_bounces: 4,
+            stop_at_bottom: false,
+            record: true,
+        };
+        let ray = t.trace(0.0, z0, 10.0, &o).unwrap();
+        let r = linear_arc_radius(c0, g, z0, th);
+        let (xc, zc) = linear_arc_centre(c0, g, 0.0, z0, th);
+        let worst = ray
+            .path
+            .iter()
+            .map(|q| ((q[0] - xc).hypot(q[1] - zc) - r).abs() / r)
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "relative radius error {worst}");
+        assert!(ray.path.len() > 100);
+        // the ray turns at c = c(z0) / cos(theta0)
+        let zmax = ray.path.iter().map(|q| q[1]).fold(0.0, f64::max);
+        let zturn = ((c0 + g * z0) / th.cos() - c0) / g;
+        assert!((zmax - zturn).abs() < 1.0, "{zmax} vs {zturn}");
+    }
+
+    #[test]
+    fn snell_invariant_kept() {
+        let p = SoundSpeed::Munk(super::super::Munk::default());
+        let floor = deep();
+        let t = Tracer::new(&p, &floor).unwrap();
+        let o = TraceOptions {
+            ds: 50.0,
+            max_path: 60_000.0,
+            max_bounces: 50,
+            stop_at_bottom: false,
+            record: false,
+        };
+        for a in [-12.0, -5.0, 0.0, 3.0, 11.0] {
+            let ray = t.trace(0.0, 1000.0, a, &o).unwrap();
+            assert!(
+                ray.max_snell_drift < 1e-9,
+                "{a}: drift {}",
+                ray.max_snell_drift
+            );
+            assert!(ray.max_snell_drift > 0.0 || a == 0.0);
+        }
+        // a coarse step drifts more: the check can fail
+        let coarse = TraceOptions { ds: 2000.0, ..o };
+        let ray = t.trace(0.0, 1000.0, 11.0, &coarse).unwrap();
+        assert!(ray.max_snell_drift > 1e-9, "{}", ray.max_snell_drift);
+    }
+
+    #[test]
+    fn reflection_law() {
+        // isovelocity, a floor tilted by 10 degrees: the reflected ray leaves at the mirror angle
+        let p = SoundSpeed::Isovelocity(1500.0);
+        let tilt = 10f64.to_radians();
+        let floor = Seafloor::new(
+            vec![0.0, 100.0],
+            vec![20.0, 20.0 + 100.0 * tilt.tan()],
+            vec![],
+        )
+        .unwrap();
+        let t = Tracer::new(&p, &floor).unwrap();
+        let o = TraceOptions {
+            ds: 0.7,
+            max_path: 30.0,
+            max_bounces: 1,
+            stop_at_bottom: false,
+            record: true,
+        };
+        let ray = t.trace(0.0, 5.0, 60.0, &o).unwrap();
+        let h = ray.first_floor_hit().unwrap();
+        // grazing angle = 60 - 10 degrees
+        assert!(
+            (h.grazing.to_degrees() - 50.0).abs() < 1e-9,
+            "{}",
+            h.grazing.to_degrees()
+        );
+        // the hit lies on the floor
+        assert!((h.z - (20.0 + h.x * tilt.tan())).abs() < 1e-9);
+        // outgoing direction: the mirror of 60 degrees about a 10-degree floor, 40 degrees up
+        let two = t
+            .trace(
+                0.0,
+                5.0,
+                60.0,
+                &TraceOptions {
+                    max_bounces: 2,
+                    ..o
+                },
+            )
+            .unwrap();
+        let k = two
+            .path
+            .iter()
+            .position(|q| q[0] == h.x && q[1] == h.z)
+            .unwrap();
+        let (a, b) = (two.path[k], two.path[k + 1]);
+        let dir = (b[1] - a[1]).atan2(b[0] - a[0]).to_degrees();
+        assert!((dir + 40.0).abs() < 1e-9, "{dir}");
+        assert_eq!(ray.end, RayEnd::Bounces);
+        // the surface reflection flips t_z
+        let o2 = TraceOptions {
+            max_bounces: 3,
+            max_path: 200.0,
+            ..o
+        };
+        let up = t.trace(0.0, 5.0, -30.0, &o2).unwrap();
+        let s = up.reflections[0];
+        assert_eq!(s.at, Surface::Sea);
+        assert!((s.grazing.to_degrees() - 30.0).abs() < 1e-9);
+        assert!((s.x - 5.0 / 30f64.to_radians().tan()).abs() < 1e-9);
+        let f = up.reflections[1];
+        assert!(
+            (f.grazing.to_degrees() - 20.0).abs() < 1e-9,
+            "{}",
+            f.grazing.to_degrees()
+        );
+    }
+}
