@@ -128,6 +128,22 @@ impl Table {
         self.z[self.z.len() - 1]
     }
 
+    /// Value and derivative at `z` in the layer entered when moving down (`down`) or up from
+    /// `z`: within [`row_tol`] of a row depth the row's value and the gradient of the layer on
+    /// that side; elsewhere as [`Table::eval`].
+    pub fn eval_toward(&self, z: f64, down: bool) -> (f64, f64) {
+        let i = self.z.partition_point(|&d| d < z - row_tol(z));
+        if i < self.z.len() && (self.z[i] - z).abs() <= row_tol(z) {
+            let j = if down { Some(i) } else { i.checked_sub(1) };
+            if let Some(j) = j.filter(|&j| j + 1 < self.z.len()) {
+                let g = (self.v[j + 1] - self.v[j]) / (self.z[j + 1] - self.z[j]);
+                return (self.v[i] + g * (z - self.z[i]), g);
+            }
+            return (self.v[i], 0.0);
+        }
+        self.eval(z)
+    }
+
     /// Value and derivative at `z`; outside the table the end value, with derivative 0.
     /// At a row depth the layer below is used.
     pub fn eval(&self, z: f64) -> (f64, f64) {
@@ -142,6 +158,11 @@ impl Table {
         let g = (self.v[i + 1] - self.v[i]) / (self.z[i + 1] - self.z[i]);
         (self.v[i] + g * (z - self.z[i]), g)
     }
+}
+
+/// How close (m) a depth must be to a table row to count as on it: 1e-9 (1 + |z|).
+pub fn row_tol(z: f64) -> f64 {
+    1e-9 * (1.0 + z.abs())
 }
 
 /// Munk's (1974) canonical profile c(z) = c_axis [1 + eps (zt - 1 + exp(-zt))],
@@ -346,6 +367,23 @@ impl SoundSpeed {
                 let (c, p) = mackenzie(t, s, d);
                 (c, p[0] * dt + p[1] * ds + p[2] * dd)
             }
+        }
+    }
+
+    /// [`SoundSpeed::eval`], but on a table row (within [`row_tol`]) the gradient of the layer
+    /// entered when moving down (`down`) or up: the integrator's steps start on rows.
+    pub fn eval_toward(&self, z: f64, down: bool) -> (f64, f64) {
+        match self {
+            SoundSpeed::Table(t) => t.eval_toward(z, down),
+            SoundSpeed::Mackenzie(m) => {
+                let (t, dt) = m.temperature.eval_toward(z, down);
+                let (s, ds) = m.salinity.eval_toward(z, down);
+                let d = z.clamp(0.0, MACKENZIE_D);
+                let dd = if z > 0.0 && z < MACKENZIE_D { 1.0 } else { 0.0 };
+                let (c, p) = mackenzie(t, s, d);
+                (c, p[0] * dt + p[1] * ds + p[2] * dd)
+            }
+            _ => self.eval(z),
         }
     }
 

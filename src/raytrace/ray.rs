@@ -8,19 +8,22 @@
 //! RK4 makes the error of a step O(ds^5) in a smooth profile). Because c depends on z only,
 //! t_x stays exactly constant: the error shows as |t| drifting off 1/c, which is what the Snell
 //! invariant xi = cos(theta) / c measures ([`Ray::max_snell_drift`]). A step that would cross a
-//! profile table row is shortened to end on it, as BELLHOP does, so that RK4 never straddles a
-//! gradient jump.
+//! profile table row is shortened to end on it, as BELLHOP does (a linear estimate of the
+//! length, then Newton iterations on it until the end is within 1e-9 (1 + z) m of the row), and
+//! a step starting on a row takes the gradient of the layer it enters, so that RK4 never
+//! straddles a gradient jump.
 //!
 //! Boundaries: each step's chord is tested against the surface z = 0 and the floor's segments
-//! ([`Seafloor::first_crossing`]). At a crossing at chord fraction f the step is redone with
-//! length f ds and the point moved onto the boundary (along the new chord), so the reflection
-//! point is off the true curved path by at most ds^2 / (8 R), R the radius of curvature
-//! (2e-9 m for ds = 0.05 m and R = 150 m). The direction is reflected exactly:
-//! t' = t - 2 (t.n) n, n the boundary's unit normal.
+//! ([`Seafloor::first_crossing`]). At a crossing at chord fraction f the step is redone from
+//! length f ds, with Newton iterations on its length until the end lies on the boundary's line
+//! (to 1e-12 relative), and the point is then put on the boundary (along the last chord, a
+//! move of rounding size). The direction is reflected exactly: t' = t - 2 (t.n) n, n the
+//! boundary's unit normal.
 //!
 //! Termination: at most `max_path / ds + 4 max_bounces + 16` steps, `max_bounces`
 //! reflections, the end of the floor's range, or (if asked) the first floor hit.
 
+use super::profile::row_tol;
 use super::seafloor::Seafloor;
 use super::{RaytraceError, SoundSpeed, check_range};
 
@@ -213,16 +216,19 @@ impl<'a> Tracer<'a> {
         Ok(())
     }
 
-    fn deriv(&self, tx: f64, z: f64, tz: f64) -> [f64; 4] {
-        let (c, g) = self.profile.eval(z);
+    /// The right-hand side; on a table row the gradient of the layer below (`down`) or above.
+    fn deriv(&self, tx: f64, z: f64, tz: f64, down: bool) -> [f64; 4] {
+        let (c, g) = self.profile.eval_toward(z, down);
         [c * tx, c * tz, -g / (c * c), 1.0 / c]
     }
 
     fn rk4(&self, tx: f64, p: &State, h: f64) -> State {
-        let k1 = self.deriv(tx, p.z, p.tz);
-        let k2 = self.deriv(tx, p.z + 0.5 * h * k1[1], p.tz + 0.5 * h * k1[2]);
-        let k3 = self.deriv(tx, p.z + 0.5 * h * k2[1], p.tz + 0.5 * h * k2[2]);
-        let k4 = self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2]);
+        let down = p.tz > 0.0;
+        let k1 = self.deriv(tx, p.z, p.tz, down);
+        let k2 = self.deriv(tx, p.z + 0.5 * h * k1[1], p.tz + 0.5 * h * k1[2], down);
+        let k3 = self.deriv(tx, p.z + 0.5 * h * k2[1], p.tz + 0.5 * h * k2[2], down);
+        // the end of a step that lands on a row belongs to the layer it came through
+        let k4 = self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2], !down);
         let w = |i: usize| h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         State {
             x: p.x + w(0),
@@ -233,27 +239,94 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The step from `p`: `ds`, shortened to end on the next profile row in the direction of
-    /// travel and at the longest path.
-    fn step_length(&self, p: &State, o: &TraceOptions) -> f64 {
-        let mut h = o.ds.min(o.max_path - p.s);
+    /// The step from `p`: `ds`, shortened to the longest path and, where the linear estimate
+    /// says the step would cross a profile row, to end on it (with the row).
+    fn step_length(&self, p: &State, o: &TraceOptions) -> (f64, Option<f64>) {
+        let h = o.ds.min(o.max_path - p.s);
         let rows = self.profile.interfaces();
         if !rows.is_empty() && p.tz != 0.0 {
             let (c, _) = self.profile.eval(p.z);
             let dzds = c * p.tz;
+            let tol = row_tol(p.z);
             let next = if dzds > 0.0 {
-                rows.iter().find(|&&r| r > p.z + 1e-9)
+                rows.iter().find(|&&r| r > p.z + tol)
             } else {
-                rows.iter().rev().find(|&&r| r < p.z - 1e-9)
+                rows.iter().rev().find(|&&r| r < p.z - tol)
             };
             if let Some(&r) = next {
                 let hr = (r - p.z) / dzds;
-                if hr > 1e-6 * o.ds && hr < h {
-                    h = hr;
+                if hr > 0.0 && hr < h {
+                    return (hr, Some(r));
                 }
             }
         }
-        h
+        (h, None)
+    }
+
+    /// An RK4 step of length about `h` from `p` that ends on the profile row `row` (if any):
+    /// Newton iterations on the length (each a redone step) until the end depth is within
+    /// [`row_tol`] of the row, where it is put exactly.
+    fn step_to_row(&self, tx: f64, p: &State, h: f64, row: Option<f64>) -> (State, usize) {
+        let mut q = self.rk4(tx, p, h);
+        let Some(r) = row else {
+            return (q, 1);
+        };
+        let mut hh = h;
+        let mut steps = 1;
+        for _ in 0..6 {
+            let err = q.z - r;
+            if err.abs() <= row_tol(r) {
+                q.z = r;
+                break;
+            }
+            let dzds = self.profile.eval(q.z).0 * q.tz;
+            if dzds == 0.0 {
+                break;
+            }
+            let next = hh - err / dzds;
+            if !(next > 0.0 && next < 2.0 * h) {
+                break;
+            }
+            hh = next;
+            q = self.rk4(tx, p, hh);
+            steps += 1;
+        }
+        (q, steps)
+    }
+
+    /// An RK4 step from `p` of length about `h` ending on the line through `anchor` with unit
+    /// normal `n`: Newton iterations on the length (each a redone step) on the signed distance
+    /// (q - anchor).n, whose derivative along the ray is c (t.n). Returns the end, its length
+    /// and the steps taken.
+    fn land(
+        &self,
+        tx: f64,
+        p: &State,
+        h: f64,
+        anchor: (f64, f64),
+        n: (f64, f64),
+    ) -> (State, f64, usize) {
+        let mut hh = h;
+        let mut q = self.rk4(tx, p, hh);
+        let mut steps = 1;
+        for _ in 0..6 {
+            let d = (q.x - anchor.0) * n.0 + (q.z - anchor.1) * n.1;
+            if d.abs() <= 1e-12 * (1.0 + q.x.abs() + q.z.abs()) {
+                break;
+            }
+            let dds = self.profile.eval(q.z).0 * (tx * n.0 + q.tz * n.1);
+            if dds == 0.0 {
+                break;
+            }
+            let next = hh - d / dds;
+            if !(next >= 0.0 && next <= 2.0 * h + 1e-12) {
+                break;
+            }
+            hh = next;
+            q = self.rk4(tx, p, hh);
+            steps += 1;
+        }
+        (q, hh, steps)
     }
 
     /// Traces one ray from (x0, z0) at `angle_deg` below the horizontal, in [-90, 90]
@@ -320,9 +393,10 @@ impl<'a> Tracer<'a> {
                 ray.end = RayEnd::PathLength;
                 break;
             }
-            let h = self.step_length(&p, o);
-            let q = self.rk4(tx, &p, h);
-            ray.steps += 1;
+            let (h0, row) = self.step_length(&p, o);
+            let (q, n) = self.step_to_row(tx, &p, h0, row);
+            let h = q.s - p.s;
+            ray.steps += n;
             // the earliest boundary crossed by the chord p -> q
             let sea = (q.z < 0.0).then(|| p.z / (p.z - q.z));
             let bot = self.floor.first_crossing((p.x, p.z), (q.x, q.z));
@@ -344,10 +418,16 @@ impl<'a> Tracer<'a> {
                 }
                 continue;
             };
-            // redo the step up to the boundary, then put the point on it
-            let hh = (f * h).max(0.0);
-            let q = self.rk4(tx, &p, hh);
-            ray.steps += 1;
+            // redo the step up to the boundary (Newton on its length), then put the point on it
+            let (anchor, nrm) = match seg {
+                None => ((0.0, 0.0), (0.0, 1.0)),
+                Some(i) => (
+                    (self.floor.xs()[i], self.floor.zs()[i]),
+                    self.floor.normal(i),
+                ),
+            };
+            let (q, hh, n) = self.land(tx, &p, (f * h).max(0.0), anchor, nrm);
+            ray.steps += n;
             let (pq0, pq1) = ((p.x, p.z), (q.x, q.z));
             let (fx, pos, normal, at) = match seg {
                 None => {

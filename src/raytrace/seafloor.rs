@@ -494,6 +494,47 @@ impl Grid<'_> {
     }
 }
 
+/// The bed elevation and the impedance of each column's top automaton of a ripple run: the
+/// grid that [`Grid::section`] cuts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RippleSurface {
+    /// Columns along x.
+    pub nx: usize,
+    /// Rows along y.
+    pub ny: usize,
+    /// Bin size, m.
+    pub bin: f64,
+    /// Elevation above the substrate, m, y-major rows of x.
+    pub elevation: Vec<f64>,
+    /// Impedance of the top automaton (None: bare substrate), kg m^-2 s^-1.
+    pub impedance: Vec<Option<f64>>,
+}
+
+impl RippleSurface {
+    /// The surface of a run in memory.
+    pub fn of(r: &crate::ripple::Ripple) -> Self {
+        let (nx, ny) = r.size();
+        RippleSurface {
+            nx,
+            ny,
+            bin: r.params().bin_size,
+            elevation: r.elevation(),
+            impedance: crate::ripple::output::surface_field(r, crate::ripple::Field::Impedance),
+        }
+    }
+
+    /// The grid view.
+    pub fn grid(&self) -> Grid<'_> {
+        Grid {
+            nx: self.nx,
+            ny: self.ny,
+            bin: self.bin,
+            elevation: &self.elevation,
+            impedance: &self.impedance,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
