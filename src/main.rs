@@ -57,6 +57,8 @@ enum Cmd {
     Converge(ConvergeArgs),
     /// Sand-ripple volume generator: sand and water volumes, written for acoustic models.
     Ripple(cmd::ripple::Args),
+    /// Acoustic ray tracing over a (generated) seafloor section: rays, shadows, grazing angles.
+    Raytrace(cmd::raytrace::Args),
     /// Wind ripples: the particle model of the wind-ripple notebook (diffusion + saltation).
     WindRipples(cmd::windripples::Args),
     /// Werner-model dunes: slab model, ripple mode and dune mode.
@@ -184,6 +186,7 @@ fn main() -> ExitCode {
         Cmd::Figures(a) => make_figures(a),
         Cmd::Converge(a) => converge_cmd(a),
         Cmd::Ripple(a) => cmd::ripple::run(a),
+        Cmd::Raytrace(a) => cmd::raytrace::run(a),
         Cmd::WindRipples(a) => cmd::windripples::run(a),
         Cmd::Dunes(a) => cmd::dunes::run(a),
         Cmd::Cursor(a) => cmd::cursor::run(a),

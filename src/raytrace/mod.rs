@@ -23,7 +23,7 @@
 //! - `figures` (feature `plot`): `ripple_fig5_raytrace` and `raytrace_error_vs_time`, listed in
 //!   [`FIGURES`].
 //!
-//! Every run is bounded: at most `max_path / ds + 4 max_bounces + 16` steps per ray, at most
+//! Every run is bounded: at most `2 max_path / ds + 64 (max_bounces + 1) + 16` steps per ray, at most
 //! `max_bounces` reflections, and a ray budget for the insonification search.
 
 pub mod export;
@@ -36,8 +36,8 @@ pub mod seafloor;
 pub mod shadow;
 
 pub use profile::{Mackenzie, Munk, SoundSpeed, Table};
-pub use ray::{Ray, RayEnd, Reflection, Surface, TraceOptions, Tracer};
-pub use seafloor::{Seafloor, SectionLine};
+pub use ray::{Ray, RayEnd, Reflection, StepError, Surface, TraceOptions, Tracer, error_study};
+pub use seafloor::{RippleSurface, Seafloor, SectionLine};
 pub use shadow::{
     Arrival, Fan, Insonification, InsonifyOptions, insonify, reflection_coefficient, visibility,
 };

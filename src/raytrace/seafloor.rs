@@ -303,8 +303,8 @@ impl Seafloor {
         best
     }
 
-    /// Where the line through `p0` and `p1` meets segment `i`: (line parameter, segment
-    /// fraction clamped to [0, 1]); `None` when parallel.
+    /// Where the line through `p0` and `p1` meets the line of segment `i`: (line parameter,
+    /// segment fraction, outside [0, 1] beyond the segment); `None` when parallel.
     pub fn line_hit(&self, i: usize, p0: (f64, f64), p1: (f64, f64)) -> Option<(f64, f64)> {
         let d = (p1.0 - p0.0, p1.1 - p0.1);
         let e = (self.x[i + 1] - self.x[i], self.z[i + 1] - self.z[i]);
@@ -315,7 +315,7 @@ impl Seafloor {
         let a = (self.x[i] - p0.0, self.z[i] - p0.1);
         let f = (a.0 * e.1 - a.1 * e.0) / den;
         let u = (a.0 * d.1 - a.1 * d.0) / den;
-        (f.is_finite() && u.is_finite()).then_some((f, u.clamp(0.0, 1.0)))
+        (f.is_finite() && u.is_finite()).then_some((f, u))
     }
 }
 
@@ -521,6 +521,27 @@ impl RippleSurface {
             elevation: r.elevation(),
             impedance: crate::ripple::output::surface_field(r, crate::ripple::Field::Impedance),
         }
+    }
+
+    /// The built-in generated seafloor: a 3-D ripple run with the paper's Fig. 3 settings
+    /// (scene `ripple_fig3`: d50 0.2 mm, sorting 1 phi, current 0.5 m/s along +x) on
+    /// 128 x 16 columns of 5 mm (a 0.64 m x 0.08 m tile), 3000 steps, seed `seed`.
+    pub fn generated(seed: u64) -> Result<Self, RaytraceError> {
+        let p = crate::ripple::RippleParams {
+            nx: 128,
+            ny: 16,
+            layers: 30,
+            steps: 3000,
+            sorting: 1.0,
+            seed,
+            ..crate::ripple::RippleParams::default()
+        };
+        let mut r = crate::ripple::Ripple::new(&p).map_err(|e| RaytraceError::Input {
+            what: "generated ripple".into(),
+            reason: e.to_string(),
+        })?;
+        r.run(p.steps, |_| {});
+        Ok(RippleSurface::of(&r))
     }
 
     /// The grid view.
