@@ -101,6 +101,7 @@ pub fn all() -> impl Iterator<Item = &'static Figure> {
         .chain(crate::cursor::FIGURES)
         .chain(crate::ripple::FIGURES)
         .chain(crate::raytrace::FIGURES)
+        .chain(crate::tile::FIGURES)
 }
 
 /// The growth paper's figures, in the paper's order.

@@ -28,4 +28,5 @@ pub mod sampler;
 pub mod scene;
 pub mod sumtree;
 pub mod surface;
+pub mod tile;
 pub mod windripples;

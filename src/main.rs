@@ -59,6 +59,9 @@ enum Cmd {
     Ripple(cmd::ripple::Args),
     /// Acoustic ray tracing over a (generated) seafloor section: rays, shadows, grazing angles.
     Raytrace(cmd::raytrace::Args),
+    /// Tiling: a large surface (and volume) from toroidal ripple tiles, optionally on fractal
+    /// dunes, streamed row by row to NetCDF-3 or .npy.
+    Tile(cmd::tile::Args),
     /// Wind ripples: the particle model of the wind-ripple notebook (diffusion + saltation).
     WindRipples(cmd::windripples::Args),
     /// Werner-model dunes: slab model, ripple mode and dune mode.
@@ -187,6 +190,7 @@ fn main() -> ExitCode {
         Cmd::Converge(a) => converge_cmd(a),
         Cmd::Ripple(a) => cmd::ripple::run(a),
         Cmd::Raytrace(a) => cmd::raytrace::run(a),
+        Cmd::Tile(a) => cmd::tile::run(a),
         Cmd::WindRipples(a) => cmd::windripples::run(a),
         Cmd::Dunes(a) => cmd::dunes::run(a),
         Cmd::Cursor(a) => cmd::cursor::run(a),

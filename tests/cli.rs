@@ -1,20 +1,15 @@
 //! The `cellsurf` program as a user meets it: JSON summaries, files written, reproducible
 //! output, and bad input rejected with a message and a non-zero exit (never a panic).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn cellsurf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-        .args(args)
-        .output()
-        .expect("run cellsurf")
-}
+use std::path::PathBuf;
+use std::process::Output;
+
+use common::cellsurf;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("cli", name)
 }
 
 fn json(out: &Output) -> serde_json::Value {

@@ -6,6 +6,8 @@
 //! Everything here runs in a few seconds in a debug build; the full-size claim test is
 //! `#[ignore]`d (run it with `cargo test --release --test dunes -- --ignored`).
 
+mod common;
+
 use cellsurf::dunes::{
     BODY_THRESHOLD, DuneConfig, DuneError, DuneModel, GRAINS_PER_UNIT, Mode, PickEvent,
     above_threshold, bodies, jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains,
@@ -730,19 +732,11 @@ fn bad_input_names_the_parameter_value_and_range() {
 #[cfg(feature = "cli")]
 mod cli {
     use std::path::PathBuf;
-    use std::process::{Command, Output};
 
-    fn cellsurf(args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-            .args(args)
-            .output()
-            .expect("run cellsurf")
-    }
+    use super::common::cellsurf;
 
     fn tmp(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("cellsurf-dunes-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d.join(name)
+        super::common::tmp_in("dunes", name)
     }
 
     fn json(args: &[&str]) -> serde_json::Value {

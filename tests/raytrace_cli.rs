@@ -3,20 +3,14 @@
 //! parameter, without a panic or a partial file.
 #![cfg(feature = "cli")]
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn cellsurf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-        .args(args)
-        .output()
-        .expect("run cellsurf")
-}
+use std::path::PathBuf;
+
+use common::cellsurf;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-raytrace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("raytrace-cli", name)
 }
 
 /// A 40-ray fan through the linear thermocline.
@@ -112,4 +106,67 @@ fn bad_input_is_a_clear_error() {
         assert!(e.contains(what) && !e.contains("panicked"), "{a:?}: {e}");
         assert!(!out.exists(), "no file on error");
     }
+}
+
+#[test]
+fn seafloor_from_a_ripple_file() {
+    let nc = tmp("ripple.nc");
+    let ins = tmp("from_nc.csv");
+    let o = cellsurf(&[
+        "ripple",
+        "--nx",
+        "24",
+        "--ny",
+        "12",
+        "--layers",
+        "10",
+        "--steps",
+        "40",
+        "--seed",
+        "3",
+        "--out",
+        nc.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        nc.to_str().unwrap(),
+        "--water-depth",
+        "3",
+        "--source-depth",
+        "2.5",
+        "--length",
+        "3",
+        "--json",
+        "--out",
+        ins.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        v["parameters"]["seafloor"]
+            .as_str()
+            .unwrap()
+            .contains("ripple file")
+    );
+    // every vertex has the impedance of its column's top automaton and a finite R0
+    let text = std::fs::read_to_string(&ins).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), v["vertices"].as_u64().unwrap() as usize);
+    for r in rows {
+        let r0: f64 = r.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(r0 > 0.0 && r0 < 1.0, "{r}");
+    }
+    let bad = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        tmp("missing.nc").to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--seafloor"));
 }

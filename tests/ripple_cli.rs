@@ -2,20 +2,14 @@
 //! scene files, and bad input rejected with a message naming the parameter.
 #![cfg(feature = "cli")]
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn cellsurf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-        .args(args)
-        .output()
-        .expect("run cellsurf")
-}
+use std::path::PathBuf;
+
+use common::cellsurf;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cellsurf-ripple-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d.join(name)
+    common::tmp_in("ripple-cli", name)
 }
 
 const SMALL: &[&str] = &[

@@ -11,6 +11,8 @@
 //! - Statistics: pure diffusion has displacement variance `sum sigma_s^2` (constant: `steps D^2`)
 //!   within five standard errors; the wavelength estimators recover synthetic sinusoids.
 
+mod common;
+
 use cellsurf::windripples::{
     self, CHUNK, Schedule, WindError, WindParams, WindRipples, height_stats, mean_wavelength_bins,
     npy_bytes, power_spectrum_y, wavelength_bins,
@@ -522,19 +524,11 @@ fn invalid_parameters_are_rejected_with_the_parameter_named() {
 #[cfg(feature = "cli")]
 mod cli {
     use std::path::PathBuf;
-    use std::process::{Command, Output};
 
-    fn cellsurf(args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_cellsurf"))
-            .args(args)
-            .output()
-            .expect("run cellsurf")
-    }
+    use super::common::cellsurf;
 
     fn tmp(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("cellsurf-wr-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d.join(name)
+        super::common::tmp_in("wr", name)
     }
 
     const SMALL: [&str; 6] = ["--steps", "5", "--particles", "5000", "--bins", "32"];

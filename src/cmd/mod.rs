@@ -3,4 +3,5 @@ pub mod cursor;
 pub mod dunes;
 pub mod raytrace;
 pub mod ripple;
+pub mod tile;
 pub mod windripples;

@@ -4,8 +4,8 @@
 //! summary.
 //!
 //! The floor is a section through the built-in generated ripple field (a 3-D ripple run, seed
-//! `--seed`, tiled along the section) `--water-depth` below the surface, or a `--seafloor-csv`
-//! file.
+//! `--seed`, tiled along the section) or through a ripple NetCDF file (`--seafloor`),
+//! `--water-depth` below the surface, or a `--seafloor-csv` file.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -88,8 +88,12 @@ pub struct Args {
     water_depth: f64,
     /// Seafloor from a CSV file of `x, depth[, impedance]` rows (m, m, kg m^-2 s^-1) instead
     /// of the generated ripple field.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", conflicts_with = "seafloor")]
     seafloor_csv: Option<PathBuf>,
+    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`): its last elevation and
+    /// top-automaton impedance, cut like the generated field (--azimuth, --length).
+    #[arg(long, value_name = "FILE.nc")]
+    seafloor: Option<PathBuf>,
     /// Length of the section through the generated ripple mosaic, m.
     #[arg(long, default_value_t = 60.0)]
     length: f64,
@@ -178,7 +182,15 @@ fn floor(a: &Args) -> Result<Seafloor> {
         return Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
             .with_context(|| format!("in --seafloor-csv {}", p.display()));
     }
-    let surf = RippleSurface::generated(a.seed)?;
+    let surf = match &a.seafloor {
+        Some(p) => {
+            let f = cellsurf::ripple::input::read(p)
+                .with_context(|| format!("reading --seafloor {}", p.display()))?;
+            RippleSurface::from_file(&f)
+                .with_context(|| format!("in --seafloor {}", p.display()))?
+        }
+        None => RippleSurface::generated(a.seed)?,
+    };
     let line = SectionLine::Line {
         x0: surf.bin / 2.0,
         y0: (surf.ny / 2) as f64 * surf.bin + surf.bin / 2.0,
@@ -259,9 +271,19 @@ pub fn run(a: Args) -> Result<()> {
             },
         ),
     ];
-    match &a.seafloor_csv {
-        Some(p) => params.push(("seafloor".into(), format!("csv {}", p.display()))),
-        None => params.push((
+    match (&a.seafloor_csv, &a.seafloor) {
+        (Some(p), _) => params.push(("seafloor".into(), format!("csv {}", p.display()))),
+        (None, Some(p)) => params.push((
+            "seafloor".into(),
+            format!(
+                "ripple file {}, section azimuth {} deg, length {} m, water depth {} m",
+                p.display(),
+                a.azimuth,
+                a.length,
+                a.water_depth
+            ),
+        )),
+        (None, None) => params.push((
             "seafloor".into(),
             format!(
                 "generated ripple (seed {}), section azimuth {} deg, length {} m, water depth {} m",

@@ -45,7 +45,7 @@ pub struct Args {
     /// Layer thickness gd, m [default 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
-    /// Steps [default 3000].
+    /// Steps [default 10000].
     #[arg(long)]
     steps: Option<u64>,
     /// Fraction of automata triggered per step [default 0.001].
@@ -243,6 +243,7 @@ pub fn run(a: Args) -> Result<()> {
             "ripple_index": num(an.ripple_index),
             "lee_slope_deg": num(an.lee_slope_deg),
             "stoss_slope_deg": num(an.stoss_slope_deg),
+            "symmetry_index": num(an.symmetry_index),
             "mass_change": r.mass_change(),
             "d50_crest_mm": num(an.d50_crest_mm),
             "d50_trough_mm": num(an.d50_trough_mm),
@@ -259,7 +260,7 @@ pub fn run(a: Args) -> Result<()> {
         println!("{}", serde_json::to_string(&v)?);
     } else if !a.quiet {
         eprintln!(
-            "ripple: {} steps, {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
+            "ripple: {} steps, {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
             s.steps,
             r.automata(),
             s.activations,
@@ -268,6 +269,7 @@ pub fn run(a: Args) -> Result<()> {
             an.ripple_index,
             an.lee_slope_deg,
             an.stoss_slope_deg,
+            an.symmetry_index,
             an.crest_normal_deg,
             an.d50_crest_mm,
             an.d50_trough_mm,

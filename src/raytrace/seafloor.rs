@@ -523,6 +523,36 @@ impl RippleSurface {
         }
     }
 
+    /// The surface of a ripple NetCDF file ([`crate::ripple::input::read`]): its last
+    /// elevation snapshot and, if the file has the `impedance` field, the impedance of each
+    /// column's top automaton.
+    pub fn from_file(f: &crate::ripple::input::RippleFile) -> Result<Self, RaytraceError> {
+        let elev = f.final_elevation().ok_or_else(|| RaytraceError::Input {
+            what: "ripple file".into(),
+            reason: "no elevation snapshot (write it with --fields elevation,...)".into(),
+        })?;
+        let (nx, ny, nz) = (f.nx, f.ny, f.nz);
+        let impedance = match f.field(crate::ripple::Field::Impedance) {
+            Some(v) if v.len() == nx * ny * nz => (0..nx * ny)
+                .map(|c| {
+                    (0..nz)
+                        .rev()
+                        .map(|z| v[z * nx * ny + c])
+                        .find(|x| x.is_finite())
+                        .map(f64::from)
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        Ok(RippleSurface {
+            nx,
+            ny,
+            bin: f.bin_size,
+            elevation: elev.iter().map(|&v| f64::from(v)).collect(),
+            impedance,
+        })
+    }
+
     /// The built-in generated seafloor: a 3-D ripple run with the paper's Fig. 3 settings
     /// (scene `ripple_fig3`: d50 0.2 mm, sorting 1 phi, current 0.5 m/s along +x) on
     /// 128 x 16 columns of 5 mm (a 0.64 m x 0.08 m tile), 3000 steps, seed `seed`.

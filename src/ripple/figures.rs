@@ -3,7 +3,7 @@
 //!
 //! Sizes are reduced so that all of them together take well under a minute in release: the
 //! figure run is the scene `scenarios/ripple_fig3.toml` (128 x 64 columns x 30 automata,
-//! 3000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
+//! 10000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -49,7 +49,7 @@ pub const FIGURES: &[Figure] = &[
     },
     Figure {
         name: "ripple_error_vs_time",
-        about: "Sand ripple generator: spread over seeds of wavelength, height and ripple index against CPU time (steps, grid size, bin size)",
+        about: "Sand ripple generator: wavelength, height and ripple index (mean over 6 seeds and its standard error) against CPU time, for steps, grid size and bin size",
         make: error_vs_time,
     },
 ];
@@ -59,7 +59,7 @@ fn model_err(e: impl std::fmt::Display) -> FigureError {
 }
 
 /// A perceptual blue-green-yellow ramp (anchors chosen by eye, viridis-like), 256 entries.
-fn ramp_palette() -> Palette {
+pub(crate) fn ramp_palette() -> Palette {
     const A: [(f64, (f64, f64, f64)); 5] = [
         (0.0, (68.0, 1.0, 84.0)),
         (0.25, (59.0, 82.0, 139.0)),
@@ -82,7 +82,7 @@ fn ramp_palette() -> Palette {
 
 /// States 1..=255 for finite values scaled over [lo, hi]; 0 for NaN (drawn in the ramp's
 /// darkest colour, used as "no data" in sections: there the palette entry 0 is set white).
-fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
+pub(crate) fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
     let span = if hi > lo { hi - lo } else { 1.0 };
     v.iter()
         .map(|&x| {
@@ -95,7 +95,7 @@ fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
         .collect()
 }
 
-fn range_of(v: &[f64]) -> (f64, f64) {
+pub(crate) fn range_of(v: &[f64]) -> (f64, f64) {
     v.iter()
         .filter(|x| x.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
@@ -103,7 +103,7 @@ fn range_of(v: &[f64]) -> (f64, f64) {
         })
 }
 
-fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
+pub(crate) fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
     CellField {
         nx,
         ny,
@@ -249,17 +249,17 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     lattice_panels(
         &path,
         &format!(
-            "Fig. 3: elevation {:.1}-{:.1} mm; wavelength {:.1} cm, height {:.2} cm, RI {:.1}",
+            "Fig. 3 ({:.0}-{:.0} mm): wavelength {:.1} cm, height {:.2} cm, lee {:.0} deg",
             lo * 1e3,
             hi * 1e3,
             an.wavelength_m * 100.0,
             an.height_m * 100.0,
-            an.ripple_index
+            an.lee_slope_deg
         ),
         &panels,
-        1,
+        2,
         &ramp_palette(),
-        900,
+        1400,
     )?;
     Ok(vec![path])
 }
@@ -434,94 +434,159 @@ fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     Ok(vec![path])
 }
 
-/// Spread (standard deviation over seeds) and mean of (wavelength, height, ripple index) and
-/// the mean CPU seconds of runs of `p` over `seeds`.
-fn spread(p: &RippleParams, seeds: u64) -> Result<([f64; 3], [f64; 3], f64), FigureError> {
-    let mut vals: Vec<[f64; 3]> = Vec::new();
-    let mut secs = 0.0;
-    for s in 0..seeds {
-        let q = RippleParams {
-            seed: 1000 + s,
-            ..p.clone()
-        };
-        let t = Instant::now();
-        let mut r = Ripple::new(&q).map_err(model_err)?;
-        r.run(q.steps, |_| {});
-        secs += t.elapsed().as_secs_f64();
+/// Seeds of each point of the error-against-time study.
+const STUDY_SEEDS: u64 = 6;
+
+/// One run of the study: (wavelength m, height m, ripple index) at each of `at` (steps,
+/// increasing) and the CPU seconds spent until then (timed on the run's own thread).
+fn study_run(p: &RippleParams, at: &[u64]) -> Result<Vec<([f64; 3], f64)>, String> {
+    let t = Instant::now();
+    let mut r = Ripple::new(p).map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    for &n in at {
+        r.run(n - r.time(), |_| {});
         let a = Analysis::of(&r);
-        vals.push([a.wavelength_m, a.height_m, a.ripple_index]);
+        out.push((
+            [a.wavelength_m, a.height_m, a.ripple_index],
+            t.elapsed().as_secs_f64(),
+        ));
     }
-    let n = vals.len() as f64;
-    let mut mean = [0.0; 3];
-    let mut sd = [0.0; 3];
-    for i in 0..3 {
-        mean[i] = vals.iter().map(|v| v[i]).sum::<f64>() / n;
-        sd[i] = (vals.iter().map(|v| (v[i] - mean[i]).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
-    }
-    Ok((mean, sd, secs / n))
+    Ok(out)
 }
 
-/// (CPU seconds, means, standard deviations) of one study point.
+/// (mean CPU seconds, means, standard errors of the means) over [`STUDY_SEEDS`] seeds of `p`,
+/// at each of `at` steps. Seeds run in parallel; every run is deterministic, so the values do
+/// not depend on the thread count (the times do a little).
+fn study(p: &RippleParams, at: &[u64]) -> Result<Vec<StudyPoint>, FigureError> {
+    use rayon::prelude::*;
+    let runs: Vec<Vec<([f64; 3], f64)>> = (0..STUDY_SEEDS)
+        .into_par_iter()
+        .map(|s| {
+            study_run(
+                &RippleParams {
+                    seed: 1000 + s,
+                    ..p.clone()
+                },
+                at,
+            )
+        })
+        .collect::<Result<_, _>>()
+        .map_err(FigureError::Model)?;
+    let n = STUDY_SEEDS as f64;
+    Ok((0..at.len())
+        .map(|j| {
+            let secs = runs.iter().map(|r| r[j].1).sum::<f64>() / n;
+            let mut mean = [0.0; 3];
+            let mut se = [0.0; 3];
+            for i in 0..3 {
+                mean[i] = runs.iter().map(|r| r[j].0[i]).sum::<f64>() / n;
+                let var = runs
+                    .iter()
+                    .map(|r| (r[j].0[i] - mean[i]).powi(2))
+                    .sum::<f64>()
+                    / (n - 1.0);
+                se[i] = (var / n).sqrt();
+            }
+            (secs, mean, se)
+        })
+        .collect())
+}
+
+/// (CPU seconds, means, standard errors of the means) of one study point.
 type StudyPoint = (f64, [f64; 3], [f64; 3]);
 
+/// Convergence of wavelength, height and ripple index with steps, grid size and bin size, and
+/// their spread over seeds, against CPU time (the defaults' sliced water and 10,000 steps on
+/// smaller grids of 20 automata per column).
 fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let base = RippleParams {
         nx: 64,
         ny: 32,
         layers: 20,
-        abstraction: super::Abstraction::Shadow,
         ..scene()?
     };
-    let seeds = 4;
+    let steps = [1250u64, 2500, 5000, 10000];
     let mut studies: Vec<(String, Vec<StudyPoint>)> = Vec::new();
-    let mut steps_pts = Vec::new();
-    for steps in [500u64, 1000, 2000, 4000] {
-        let (m, s, t) = spread(
-            &RippleParams {
-                steps,
-                ..base.clone()
-            },
-            seeds,
-        )?;
-        steps_pts.push((t, m, s));
-    }
-    studies.push(("steps 500-4000".into(), steps_pts));
+    let by_steps = study(&base, &steps)?;
+    let at_base = by_steps[steps.len() - 1];
+    studies.push(("steps 1250-10000 (64 x 32)".into(), by_steps));
     let mut grid_pts = Vec::new();
-    for (nx, ny) in [(32usize, 16usize), (64, 32), (128, 64)] {
-        let (m, s, t) = spread(
+    for (nx, ny) in [(32usize, 16usize), (48, 24)] {
+        grid_pts.extend(study(
             &RippleParams {
                 nx,
                 ny,
-                steps: 2000,
                 ..base.clone()
             },
-            seeds,
-        )?;
-        grid_pts.push((t, m, s));
+            &[base.steps],
+        )?);
     }
-    studies.push(("grid 32x16-128x64".into(), grid_pts));
+    grid_pts.push(at_base);
+    grid_pts.extend(study(
+        &RippleParams {
+            nx: 96,
+            ny: 48,
+            ..base.clone()
+        },
+        &[base.steps],
+    )?);
+    studies.push(("grid 32 x 16, 64 x 32, 96 x 48".into(), grid_pts));
     let mut bin_pts = Vec::new();
-    // Same physical area and layer thickness, finer bins (so gd / dx changes too).
-    for (bin, nx, ny) in [(0.01, 32usize, 16usize), (0.005, 64, 32), (0.0025, 128, 64)] {
-        let (m, s, t) = spread(
-            &RippleParams {
-                nx,
-                ny,
-                bin_size: bin,
-                steps: 2000,
-                ..base.clone()
-            },
-            seeds,
-        )?;
-        bin_pts.push((t, m, s));
+    for (bin, gd) in [(0.0025, 0.00025), (0.01, 0.001)] {
+        let q = RippleParams {
+            bin_size: bin,
+            layer_thickness: gd,
+            ..base.clone()
+        };
+        bin_pts.extend(study(&q, &[base.steps])?);
+        if bin == 0.0025 {
+            bin_pts.push(at_base);
+        }
     }
-    studies.push(("bin 10-2.5 mm (same area, gd 0.5 mm)".into(), bin_pts));
+    studies.push(("bin 2.5, 5, 10 mm (64 x 32, gd = bin / 10)".into(), bin_pts));
+    let (sw_l, sw_h) = super::spectrum::soulsby_whitehouse(base.d50 * 1e-3);
+    let reference = [Some(sw_l * 100.0), Some(sw_h * 100.0), Some(sw_l / sw_h)];
     let names = ["wavelength", "height", "ripple index"];
-    let charts: Vec<Chart> = (0..3)
-        .map(|i| Chart {
-            title: format!("spread over {seeds} seeds of the {}", names[i]),
+    let units = [" (cm)", " (cm)", ""];
+    let scale = [100.0, 100.0, 1.0];
+    let (tmin, tmax) = studies
+        .iter()
+        .flat_map(|(_, pts)| pts.iter().map(|p| p.0))
+        .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t), b.max(t)));
+    let mut charts: Vec<Chart> = (0..3)
+        .map(|i| {
+            let mut series: Vec<Series> = studies
+                .iter()
+                .map(|(label, pts)| Series {
+                    label: label.clone(),
+                    x: pts.iter().map(|p| p.0).collect(),
+                    y: pts.iter().map(|p| p.1[i] * scale[i]).collect(),
+                    points: true,
+                })
+                .collect();
+            if let Some(v) = reference[i] {
+                series.push(Series {
+                    label: "Soulsby & Whitehouse (2005)".into(),
+                    x: vec![tmin, tmax],
+                    y: vec![v, v],
+                    points: false,
+                });
+            }
+            Chart {
+                title: format!("mean {} over {STUDY_SEEDS} seeds", names[i]),
+                x_label: "CPU seconds per run".into(),
+                y_label: format!("{}{}", names[i], units[i]),
+                series,
+                log_x: true,
+                log_y: false,
+            }
+        })
+        .collect();
+    charts.extend((0..3).map(|i| {
+        Chart {
+            title: format!("standard error of the mean {}", names[i]),
             x_label: "CPU seconds per run".into(),
-            y_label: format!("std. dev. / mean of the {}", names[i]),
+            y_label: "standard error / mean".into(),
             series: studies
                 .iter()
                 .map(|(label, pts)| Series {
@@ -532,16 +597,16 @@ fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
                 })
                 .collect(),
             log_x: true,
-            log_y: false,
-        })
-        .collect();
+            log_y: true,
+        }
+    }));
     let path = dir.join("ripple_error_vs_time.png");
     line_charts(
         &path,
-        "Relative spread over seeds against CPU time (shadow abstraction, 20 automata per column)",
+        "Ripple measures against CPU time: steps, grid and bin size (sliced water, 20 automata per column)",
         &charts,
         3,
-        (520, 420),
+        (560, 420),
     )?;
     Ok(vec![path])
 }

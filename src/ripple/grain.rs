@@ -125,6 +125,12 @@ impl GrainClasses {
         let theta = tau / ((RHO_S - RHO_W) * G * self.d[k]);
         theta / self.theta_cr[k] - 1.0
     }
+
+    /// Whether a bed speed `u` (m/s) moves a grain of any class (a fully exposed bed moves at
+    /// most the free-stream speed, so below this no grain can be activated).
+    pub fn any_moves(&self, u: f64, cd: f64) -> bool {
+        (0..self.len()).any(|k| self.excess_stage(k as u8, u, cd) > 0.0)
+    }
 }
 
 /// Median (by count) grain diameter of class counts, mm, interpolated linearly in phi within

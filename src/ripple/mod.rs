@@ -12,7 +12,8 @@
 //! - [`Analysis`] ([`spectrum`]): wavelength and crest orientation from the 2-D spectrum,
 //!   height, ripple index, slopes, crest/trough grain size.
 //! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
-//! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically.
+//! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically;
+//!   [`input`] reads the NetCDF files back ([`input::RippleFile`]).
 //! - `figures` (feature `plot`): the paper's Figs. 2, 3, 4, 7, 8 and an error-versus-time
 //!   chart, listed in [`FIGURES`].
 //!
@@ -25,7 +26,9 @@ pub mod compaction;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod grain;
+pub mod input;
 pub mod model;
+pub mod morphometry;
 pub mod output;
 pub mod params;
 pub mod rules;
@@ -78,6 +81,14 @@ pub enum RippleError {
     /// A scene file could not be parsed.
     #[error("scene file: {0}")]
     Toml(String),
+    /// Reading an input file failed.
+    #[error("reading {path}: {reason}")]
+    Input {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
     /// Writing an output failed.
     #[error("writing {path}: {reason}")]
     Output {

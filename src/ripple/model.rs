@@ -167,11 +167,13 @@ impl Ripple {
         ((self.p.activity * self.automata as f64).round() as u64).max(1)
     }
 
-    /// Advances one step.
+    /// Advances one step. While the free stream is below the threshold of motion of every
+    /// grain class (zero current; the slack phases of a wave) no grain can move and no column
+    /// is picked.
     pub fn step(&mut self) {
         let flow = Flow::at(&self.p, self.t, self.two_d);
         let target = self.activations_per_step();
-        if flow.speed > 0.0 {
+        if self.classes.any_moves(flow.speed, self.p.drag_coefficient) {
             let max_picks = 50 * target + 1000;
             let cols = self.vol.columns();
             let (mut got, mut picks) = (0, 0);

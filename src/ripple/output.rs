@@ -234,12 +234,41 @@ fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     }
 }
 
-/// The parameters as (name, value) pairs, values as TOML scalars.
-fn param_pairs(r: &Ripple) -> Vec<(String, toml::Value)> {
-    match toml::Value::try_from(r.params()) {
+/// The fields of a serialisable parameter set as (name, value) pairs, values as TOML values.
+pub fn toml_pairs<T: serde::Serialize>(params: &T) -> Vec<(String, toml::Value)> {
+    match toml::Value::try_from(params) {
         Ok(toml::Value::Table(t)) => t.into_iter().collect(),
         _ => Vec::new(),
     }
+}
+
+/// Adds the provenance every cellsurf NetCDF file carries as global attributes:
+/// `Conventions` (CF-1.8), `title`, `source` (`cellsurf VERSION command`),
+/// `cellsurf_version`, `comment`, and one `param_NAME` per parameter (numbers and booleans as
+/// doubles, the rest as text).
+pub fn add_provenance(
+    ds: &mut DataSet,
+    title: &str,
+    command: &str,
+    comment: &str,
+    params: &[(String, toml::Value)],
+) -> Result<(), netcdf3::InvalidDataSet> {
+    ds.add_global_attr_string("Conventions", "CF-1.8")?;
+    ds.add_global_attr_string("title", title)?;
+    ds.add_global_attr_string("source", format!("cellsurf {VERSION} {command}"))?;
+    ds.add_global_attr_string("cellsurf_version", VERSION)?;
+    ds.add_global_attr_string("comment", comment)?;
+    for (k, v) in params {
+        let name = format!("param_{k}");
+        match v {
+            toml::Value::Integer(i) => ds.add_global_attr_f64(&name, vec![*i as f64]),
+            toml::Value::Float(f) => ds.add_global_attr_f64(&name, vec![*f]),
+            toml::Value::Boolean(b) => ds.add_global_attr_f64(&name, vec![f64::from(u8::from(*b))]),
+            toml::Value::String(s) => ds.add_global_attr_string(&name, s),
+            other => ds.add_global_attr_string(&name, other.to_string()),
+        }?;
+    }
+    Ok(())
 }
 
 /// Writes the NetCDF-3 file (64-bit offset) at `path`, atomically.
@@ -347,36 +376,18 @@ pub fn write_netcdf(
                 .map_err(|x| out_err(path, x))?;
         }
     }
-    ds.add_global_attr_string("Conventions", "CF-1.8")
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string(
-        "title",
+    add_provenance(
+        &mut ds,
         "Sand ripple volume (cellular automaton Monte Carlo, Staelens, Dupont & Henriet)",
-    )
-    .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("source", format!("cellsurf {VERSION} ripple"))
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string("cellsurf_version", VERSION)
-        .map_err(|x| out_err(path, x))?;
-    ds.add_global_attr_string(
-        "comment",
+        "ripple",
         "Toroidal (periodic in x and y): the volume tiles without seams.",
+        &toml_pairs(p),
     )
     .map_err(|x| out_err(path, x))?;
     ds.add_global_attr_f64("steps_done", vec![r.time() as f64])
         .map_err(|x| out_err(path, x))?;
     ds.add_global_attr_f64("automata", vec![r.automata() as f64])
         .map_err(|x| out_err(path, x))?;
-    for (k, v) in param_pairs(r) {
-        let name = format!("param_{k}");
-        match v {
-            toml::Value::Integer(i) => ds.add_global_attr_f64(&name, vec![i as f64]),
-            toml::Value::Float(f) => ds.add_global_attr_f64(&name, vec![f]),
-            toml::Value::String(s) => ds.add_global_attr_string(&name, s),
-            other => ds.add_global_attr_string(&name, other.to_string()),
-        }
-        .map_err(|x| out_err(path, x))?;
-    }
 
     let tmp = crate::io::temp_path(path);
     let result = (|| -> Result<(), RippleError> {
@@ -423,8 +434,10 @@ pub fn write_netcdf(
     result
 }
 
-/// The bytes of a little-endian f32 `.npy` (format 1.0) of `shape`.
-pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
+/// The header of a little-endian f32 `.npy` (format 1.0, C order) of `shape`, padded so that
+/// the data starts on a 64-byte boundary: the data (`shape` product x 4 bytes) may follow it
+/// as a whole or be appended row by row.
+pub fn npy_header(shape: &[usize]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape_s = if dims.len() == 1 {
         format!("({},)", dims[0])
@@ -436,17 +449,25 @@ pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
     let pad = (64 - total % 64) % 64;
     header.push_str(&" ".repeat(pad));
     header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + data.len() * 4);
+    let mut out = Vec::with_capacity(10 + header.len());
     out.extend_from_slice(b"\x93NUMPY\x01\x00");
     out.extend_from_slice(&(header.len() as u16).to_le_bytes());
     out.extend_from_slice(header.as_bytes());
+    out
+}
+
+/// The bytes of a little-endian f32 `.npy` (format 1.0) of `shape`.
+pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
+    let mut out = npy_header(shape);
+    out.reserve(data.len() * 4);
     for v in data {
         out.extend_from_slice(&v.to_le_bytes());
     }
     out
 }
 
-fn json_string(s: &str) -> String {
+/// A JSON string literal of `s` (quotes and control characters escaped).
+pub fn json_string(s: &str) -> String {
     let mut o = String::from("\"");
     for ch in s.chars() {
         match ch {
@@ -509,7 +530,7 @@ pub fn write_npy(
         written.push(path);
     }
     let mut params = Vec::new();
-    for (k, v) in param_pairs(r) {
+    for (k, v) in toml_pairs(r.params()) {
         let val = match v {
             toml::Value::String(s) => json_string(&s),
             toml::Value::Float(f) if !f.is_finite() => "null".into(),

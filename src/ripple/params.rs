@@ -105,7 +105,7 @@ pub struct RippleParams {
     /// Layer thickness gd (height of one automaton), m, > 0 and <= `bin_size`.
     /// Default 0.0005 (0.5 mm).
     pub layer_thickness: f64,
-    /// Steps to run. Default 3000.
+    /// Steps to run. Default 10000.
     pub steps: u64,
     /// Fraction of the automata triggered per step (the paper's 0.1 %), in (0, 1].
     /// Default 0.001.
@@ -171,7 +171,7 @@ impl Default for RippleParams {
             headroom: 0,
             bin_size: 0.005,
             layer_thickness: 0.0005,
-            steps: 3000,
+            steps: 10000,
             activity: 0.001,
             d50: 0.2,
             sorting: 0.5,

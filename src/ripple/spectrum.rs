@@ -8,12 +8,10 @@
 //!   `1 / |k|` (k in cycles per metre, |k| power-averaged) and `crest_normal_deg` the direction
 //!   of k in degrees, in [0, 180) (averaged as a doubled angle: a wave vector and its opposite
 //!   are the same ripples), comparable with `current_angle` modulo 180.
-//! - **Height**: `2 sqrt(2)` times the standard deviation of the bed smoothed by the 8-cell
-//!   Moore average (the crest-to-trough height of a sinusoid of that variance).
-//! - **Slopes**: on the smoothed bed, the slope along the current direction; the lee slope is
-//!   `atan` of the mean descent where the bed descends downstream, the stoss slope `atan` of
-//!   the mean rise where it rises. On a torus both integrate to the same total, so a lee
-//!   steeper than the stoss means a shorter lee: asymmetric ripples.
+//! - **Height, slopes, symmetry**: measured ripple by ripple on profiles along the current
+//!   ([`super::morphometry`]): the mean crest-to-trough height, the slope of the middle half of
+//!   the lee faces (the slip face) and of the stoss faces, and the symmetry index (stoss
+//!   length over lee length).
 //! - **Crest and trough grain size**: the median diameter of the top automata of the columns
 //!   whose smoothed height is above mean + sigma/2 (crests) or below mean - sigma/2 (troughs).
 
@@ -23,6 +21,7 @@ use serde::Serialize;
 
 use super::grain::median_d_mm;
 use super::model::Ripple;
+use super::morphometry::faces;
 
 /// Measures of a ripple field.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -39,6 +38,10 @@ pub struct Analysis {
     pub lee_slope_deg: f64,
     /// Mean stoss slope, degrees.
     pub stoss_slope_deg: f64,
+    /// Stoss length over lee length (1: symmetric).
+    pub symmetry_index: f64,
+    /// Lee and stoss faces measured.
+    pub faces: usize,
     /// Median grain size of the surface automata on crests, mm.
     pub d50_crest_mm: f64,
     /// Median grain size of the surface automata in troughs, mm.
@@ -50,24 +53,7 @@ pub struct Analysis {
 pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64) {
     let mean = field.iter().sum::<f64>() / field.len() as f64;
     let mut buf: Vec<Complex<f64>> = field.iter().map(|&v| Complex::new(v - mean, 0.0)).collect();
-    let mut planner = FftPlanner::<f64>::new();
-    let fx = planner.plan_fft_forward(nx);
-    for row in buf.chunks_exact_mut(nx) {
-        fx.process(row);
-    }
-    if ny > 1 {
-        let fy = planner.plan_fft_forward(ny);
-        let mut col = vec![Complex::new(0.0, 0.0); ny];
-        for x in 0..nx {
-            for y in 0..ny {
-                col[y] = buf[y * nx + x];
-            }
-            fy.process(&mut col);
-            for y in 0..ny {
-                buf[y * nx + x] = col[y];
-            }
-        }
-    }
+    fft2(&mut buf, nx, ny, false);
     let freq = |i: usize, n: usize| -> f64 {
         if i <= n / 2 {
             i as f64
@@ -109,6 +95,39 @@ pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64)
     (wl, if ang >= 180.0 - 1e-9 { 0.0 } else { ang })
 }
 
+/// In-place 2-D FFT of a row-major `nx x ny` complex field (rows, then columns; rustfft),
+/// forward or inverse (unnormalised: a forward and an inverse transform multiply by `nx ny`).
+pub fn fft2(buf: &mut [Complex<f64>], nx: usize, ny: usize, inverse: bool) {
+    if nx == 0 || ny == 0 || buf.len() != nx * ny {
+        return;
+    }
+    let mut planner = FftPlanner::<f64>::new();
+    let plan = |planner: &mut FftPlanner<f64>, n: usize| {
+        if inverse {
+            planner.plan_fft_inverse(n)
+        } else {
+            planner.plan_fft_forward(n)
+        }
+    };
+    let fx = plan(&mut planner, nx);
+    for row in buf.chunks_exact_mut(nx) {
+        fx.process(row);
+    }
+    if ny > 1 {
+        let fy = plan(&mut planner, ny);
+        let mut col = vec![Complex::new(0.0, 0.0); ny];
+        for x in 0..nx {
+            for y in 0..ny {
+                col[y] = buf[y * nx + x];
+            }
+            fy.process(&mut col);
+            for y in 0..ny {
+                buf[y * nx + x] = col[y];
+            }
+        }
+    }
+}
+
 /// The 8-cell Moore average (with the cell itself) of a field on the run's lattice.
 pub fn moore_average(r: &Ripple, field: &[f64]) -> Vec<f64> {
     let l = r.lattice();
@@ -143,44 +162,12 @@ impl Analysis {
         let (wavelength_m, crest_normal_deg) = dominant_wave(&elev, nx, ny, dx);
         let smooth = moore_average(r, &elev);
         let (mean, sd) = mean_std(&smooth);
-        let height_m = 2.0 * std::f64::consts::SQRT_2 * sd;
         let theta = if ny == 1 {
             0.0
         } else {
             p.current_angle.to_radians()
         };
-        let (ct, st) = (theta.cos(), theta.sin());
-        let (mut lee, mut nlee, mut stoss, mut nstoss) = (0.0, 0usize, 0.0, 0usize);
-        for y in 0..ny {
-            for x in 0..nx {
-                let at = |xx: isize, yy: isize| {
-                    let xx = (x as isize + xx).rem_euclid(nx as isize) as usize;
-                    let yy = (y as isize + yy).rem_euclid(ny as isize) as usize;
-                    smooth[yy * nx + xx]
-                };
-                let gx = (at(1, 0) - at(-1, 0)) / (2.0 * dx);
-                let gy = if ny > 1 {
-                    (at(0, 1) - at(0, -1)) / (2.0 * dx)
-                } else {
-                    0.0
-                };
-                let g = gx * ct + gy * st;
-                if g < 0.0 {
-                    lee -= g;
-                    nlee += 1;
-                } else if g > 0.0 {
-                    stoss += g;
-                    nstoss += 1;
-                }
-            }
-        }
-        let ang = |s: f64, n: usize| {
-            if n == 0 {
-                0.0
-            } else {
-                (s / n as f64).atan().to_degrees()
-            }
-        };
+        let f = faces(&elev, nx, ny, dx, p.layer_thickness, theta);
         let vol = r.volume();
         let k = r.classes().len();
         let (mut crest, mut trough) = (vec![0u64; k], vec![0u64; k]);
@@ -196,10 +183,12 @@ impl Analysis {
         Analysis {
             wavelength_m,
             crest_normal_deg,
-            height_m,
-            ripple_index: wavelength_m / height_m,
-            lee_slope_deg: ang(lee, nlee),
-            stoss_slope_deg: ang(stoss, nstoss),
+            height_m: f.height_m,
+            ripple_index: wavelength_m / f.height_m,
+            lee_slope_deg: f.lee_slope_deg,
+            stoss_slope_deg: f.stoss_slope_deg,
+            symmetry_index: f.symmetry_index(),
+            faces: f.lee_faces + f.stoss_faces,
             d50_crest_mm: median_d_mm(r.classes(), &crest),
             d50_trough_mm: median_d_mm(r.classes(), &trough),
         }

@@ -1,0 +1,455 @@
+//! `cellsurf tile`: builds a large surface as a mosaic of toroidal ripple tiles
+//! ([`cellsurf::tile`]), from ripple NetCDF files (`--tile`, repeatable) and/or tiles generated
+//! in-process (`--generate`), optionally with fractal rippled dunes (`--dunes`), and streams it
+//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams.
+//! `--dry-run` prints the size and the disk space the output would take, and stops.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+
+use cellsurf::ripple::output::{Field, toml_pairs};
+use cellsurf::ripple::{RippleParams, VERSION};
+use cellsurf::tile::fractal::measured_slope;
+use cellsurf::tile::stream::{estimate_bytes, write_stream};
+use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
+use cellsurf::tile::{
+    Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter, SeamStats,
+    StreamFormat, StreamSpec, Tile,
+};
+
+/// Options of `cellsurf tile`.
+#[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
+pub struct Args {
+    /// A ripple NetCDF file (from `cellsurf ripple`) whose snapshots are tiles; repeatable.
+    #[arg(long, value_name = "FILE.nc")]
+    tile: Vec<PathBuf>,
+    /// Generate tiles in-process with the ripple model (one run per --seeds entry).
+    #[arg(long)]
+    generate: bool,
+    /// Ripple scene (TOML) for --generate [default: the ripple defaults].
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
+    /// --generate: columns along x of a tile.
+    #[arg(long)]
+    nx: Option<usize>,
+    /// --generate: columns along y of a tile.
+    #[arg(long)]
+    ny: Option<usize>,
+    /// --generate: mean sand thickness, automata per column.
+    #[arg(long)]
+    layers: Option<usize>,
+    /// --generate: steps of each run (at least the largest --snapshots step).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// --generate: fraction of automata triggered per step.
+    #[arg(long)]
+    activity: Option<f64>,
+    /// --generate: bin size, m.
+    #[arg(long)]
+    bin_size: Option<f64>,
+    /// --generate: seeds of the runs (comma-separated) [default: --seed].
+    #[arg(long, value_delimiter = ',')]
+    seeds: Option<Vec<u64>>,
+    /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
+    #[arg(long, value_delimiter = ',')]
+    snapshots: Option<Vec<u64>>,
+    /// Tiles along x and y, MXxMY [default 3x3].
+    #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
+    mosaic: Option<String>,
+    /// Surface size in metres, WxH (rounded up to whole tiles); instead of --mosaic.
+    #[arg(long, value_name = "WxH", allow_hyphen_values = true)]
+    extent: Option<String>,
+    /// Tile choice per mosaic cell: same (the first tile) or patches (seeded random).
+    #[arg(long, default_value = "same")]
+    choose: String,
+    /// Cross-fade band at the tile edges, bins (0 = none).
+    #[arg(long, default_value_t = 0)]
+    blend: usize,
+    /// Volume field to write beneath the surface (grain_size, porosity, density, sound_speed,
+    /// impedance).
+    #[arg(long)]
+    volume: Option<Field>,
+    /// Ripples riding on fractal dunes.
+    #[arg(long)]
+    dunes: bool,
+    /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
+    #[arg(long, default_value_t = 0.6)]
+    hurst: f64,
+    /// --dunes: rms dune height, m.
+    #[arg(long, default_value_t = 0.5)]
+    dune_rms: f64,
+    /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
+    #[arg(long)]
+    dune_wavelength: Option<f64>,
+    /// Current direction, degrees from +x [default: the tiles' current; --generate runs use it].
+    #[arg(long, allow_hyphen_values = true)]
+    current_angle: Option<f64>,
+    /// --dunes: steering of the current by the dune slope (u = e - steering grad D).
+    #[arg(long, default_value_t = 3.0)]
+    steering: f64,
+    /// --dunes: dune-grid nodes per side (at most the surface's bins).
+    #[arg(long, default_value_t = 256)]
+    dune_grid: usize,
+    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Output format: netcdf or npy.
+    #[arg(long, default_value = "netcdf")]
+    format: String,
+    /// Seed of the patch choice and the dune synthesis (and of --generate without --seeds).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Print the size and the disk space needed, then stop.
+    #[arg(long)]
+    dry_run: bool,
+    /// Print one JSON summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// The parameters recorded in the output.
+#[derive(Serialize)]
+struct Recorded {
+    tiles: String,
+    tile_nx: usize,
+    tile_ny: usize,
+    bin_size: f64,
+    mosaic: String,
+    choose: String,
+    blend: usize,
+    seed: u64,
+    volume: String,
+    dunes: bool,
+    hurst: f64,
+    dune_rms: f64,
+    dune_wavelength: f64,
+    current_angle: f64,
+    steering: f64,
+    dune_grid: usize,
+}
+
+fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Result<(T, T)> {
+    let bad = || anyhow::anyhow!("--{name} = '{s}' is not valid: expected AxB, e.g. {example}");
+    let (a, b) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok((
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    ))
+}
+
+fn ripple_params(a: &Args) -> Result<RippleParams> {
+    let mut p = match &a.scenario {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            toml::from_str(&text)
+                .map_err(|e| anyhow::anyhow!("scene file {}: {e}", path.display()))?
+        }
+        None => RippleParams::default(),
+    };
+    macro_rules! set {
+        ($($f:ident),+) => { $(if let Some(v) = a.$f { p.$f = v; })+ };
+    }
+    set!(nx, ny, layers, steps, activity, bin_size, current_angle);
+    if let Some(s) = &a.snapshots {
+        p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
+    }
+    p.validate()?;
+    Ok(p)
+}
+
+fn pool(a: &Args, quiet: bool) -> Result<Vec<Tile>> {
+    let mut tiles = Vec::new();
+    for f in &a.tile {
+        tiles.extend(tiles_from_file(f, a.snapshots.as_deref(), a.volume)?);
+    }
+    if a.generate {
+        let p = ripple_params(a)?;
+        let seeds = a.seeds.clone().unwrap_or_else(|| vec![a.seed]);
+        let steps = a.snapshots.clone().unwrap_or_else(|| vec![p.steps]);
+        let last = steps.iter().copied().max().unwrap_or(0);
+        let bar = bar(seeds.len() as u64 * last, "ripple tiles", quiet);
+        tiles.extend(tiles_from_run(&p, &seeds, &steps, a.volume, |d| {
+            if d % 64 == 0 {
+                bar.set_position(d);
+            }
+        })?);
+        bar.finish_and_clear();
+    }
+    if tiles.is_empty() {
+        bail!("no tiles: give --tile FILE.nc (repeatable) and/or --generate");
+    }
+    Ok(tiles)
+}
+
+fn bar(len: u64, msg: &str, quiet: bool) -> ProgressBar {
+    let target = if quiet {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let b = ProgressBar::with_draw_target(Some(len.max(1)), target);
+    b.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    b.set_message(msg.to_string());
+    b
+}
+
+fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.2} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.1} kB", b / 1e3)
+    }
+}
+
+fn opt(v: Option<f64>) -> serde_json::Value {
+    match v {
+        Some(x) if x.is_finite() => serde_json::json!(x),
+        _ => serde_json::Value::Null,
+    }
+}
+
+fn seam_json(s: &SeamStats) -> serde_json::Value {
+    let d = |d: &cellsurf::tile::seam::DirStats| {
+        serde_json::json!({
+            "inside_m": opt(d.inside),
+            "across_m": opt(d.across),
+            "ratio": opt(d.ratio()),
+            "inside_line_sd_m": opt(d.inside_line_sd),
+            "z": opt(d.z()),
+            "seams": d.seams,
+            "lines": d.lines,
+        })
+    };
+    serde_json::json!({ "x": d(&s.x), "y": d(&s.y) })
+}
+
+/// Runs the subcommand.
+pub fn run(a: Args) -> Result<()> {
+    let start = Instant::now();
+    let quiet = a.quiet || a.json;
+    let choose: Choose = a.choose.parse()?;
+    let format: StreamFormat = a.format.parse()?;
+    if a.dunes && a.volume.is_some() {
+        bail!(
+            "--volume with --dunes is not supported: the volume beneath rippled dunes would need the dune relief in z (write the mosaic's volume without --dunes)"
+        );
+    }
+    if a.volume == Some(Field::Elevation) {
+        bail!(
+            "--volume = elevation is out of range: expected a volume field (grain_size, porosity, density, sound_speed, impedance)"
+        );
+    }
+    if a.mosaic.is_some() && a.extent.is_some() {
+        bail!("--mosaic and --extent both given: expected one of them");
+    }
+    let tiles = pool(&a, quiet)?;
+    let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);
+    let (mx, my) = match (&a.mosaic, &a.extent) {
+        (Some(m), _) => parse_pair::<usize>("mosaic", m, "3x3")?,
+        (None, Some(e)) => {
+            let (w, h) = parse_pair::<f64>("extent", e, "1000x1000 (metres)")?;
+            if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
+                bail!("--extent = {e} is out of range: expected positive sizes in metres");
+            }
+            let cells = |len: f64, n: usize| (len / (n as f64 * dx) - 1e-9).ceil().max(1.0);
+            let (cx, cy) = (cells(w, nx), cells(h, ny));
+            if cx > 1e12 || cy > 1e12 {
+                bail!("--extent = {e} is out of range: too many tiles of {nx}x{ny} bins of {dx} m");
+            }
+            (cx as usize, cy as usize)
+        }
+        (None, None) => (3, 3),
+    };
+    let labels: Vec<String> = tiles.iter().map(|t| t.label.clone()).collect();
+    let tile_angle = tiles[0].current_angle;
+    let mosaic = Mosaic::new(tiles, mx, my, choose, a.seed, a.blend)?;
+    let relief = match a.dune_wavelength {
+        Some(wavelength) => Relief::Wavelength {
+            wavelength,
+            current_angle: a.current_angle.unwrap_or(tile_angle),
+        },
+        None => Relief::Fbm { hurst: a.hurst },
+    };
+    let dune_params = DuneParams {
+        relief,
+        rms: a.dune_rms,
+        grid: a.dune_grid,
+        current_angle: a.current_angle.unwrap_or(tile_angle),
+        steering: a.steering,
+        seed: a.seed,
+    };
+    let dunes = if a.dunes {
+        Some(RippledDunes::new(mosaic.clone(), &dune_params)?)
+    } else {
+        None
+    };
+    let src: &dyn RowSource = match &dunes {
+        Some(d) => d,
+        None => &mosaic,
+    };
+    let (w, h) = (src.width(), src.height());
+    let recorded = Recorded {
+        tiles: labels.join("; "),
+        tile_nx: nx,
+        tile_ny: ny,
+        bin_size: dx,
+        mosaic: format!("{mx}x{my}"),
+        choose: choose.name().into(),
+        blend: a.blend,
+        seed: a.seed,
+        volume: a.volume.map(|f| f.name()).unwrap_or("none").into(),
+        dunes: a.dunes,
+        hurst: a.hurst,
+        dune_rms: a.dune_rms,
+        dune_wavelength: a.dune_wavelength.unwrap_or(0.0),
+        current_angle: dune_params.current_angle,
+        steering: a.steering,
+        dune_grid: a.dune_grid,
+    };
+    let spec = StreamSpec {
+        format,
+        volume: a.volume,
+        title: if a.dunes {
+            "Rippled dunes: toroidal ripple tiles on fractal dune relief (cellsurf)".into()
+        } else {
+            "Mosaic of toroidal sand-ripple tiles (cellsurf)".into()
+        },
+        params: toml_pairs(&recorded),
+    };
+    if a.volume.is_some() && src.levels() == 0 {
+        bail!("--volume: the tiles carry no volume levels");
+    }
+    let estimate = estimate_bytes(src, &spec);
+    let size_line = format!(
+        "{w} x {h} bins ({:.2} x {:.2} m, {mx} x {my} tiles of {nx} x {ny})",
+        w as f64 * dx,
+        h as f64 * dx,
+    );
+    if !quiet {
+        match &a.out {
+            Some(out) => eprintln!(
+                "tile: {size_line}; writing about {} to {}",
+                human(estimate),
+                out.display()
+            ),
+            None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
+        }
+    }
+    let (dune_slope, dune_rms) = match &dunes {
+        Some(d) => (measured_slope(d.dunes()), Some(d.dunes().rms())),
+        None => (None, None),
+    };
+    let summary = |seams: Option<&SeamStats>, bytes: u64, files: &[PathBuf], elapsed: f64| {
+        serde_json::json!({
+            "cellsurf_version": VERSION,
+            "width": w,
+            "height": h,
+            "levels": if a.volume.is_some() { src.levels() } else { 0 },
+            "bin_size_m": dx,
+            "extent_m": [w as f64 * dx, h as f64 * dx],
+            "mosaic": [mx, my],
+            "tile": [nx, ny],
+            "tiles": labels,
+            "choose": choose.name(),
+            "blend": a.blend,
+            "estimated_bytes": estimate,
+            "bytes": bytes,
+            "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            "elapsed_s": elapsed,
+            "rows_per_s": if elapsed > 0.0 && seams.is_some() { h as f64 / elapsed } else { 0.0 },
+            "mb_per_s": if elapsed > 0.0 { bytes as f64 / 1e6 / elapsed } else { 0.0 },
+            "seams": seams.map(seam_json),
+            "dunes": a.dunes.then(|| serde_json::json!({
+                "hurst": matches!(relief, Relief::Fbm { .. }).then_some(a.hurst),
+                "requested_slope": matches!(relief, Relief::Fbm { .. }).then_some(-(2.0 * a.hurst + 2.0)),
+                "measured_slope": opt(dune_slope),
+                "dune_wavelength_m": a.dune_wavelength,
+                "rms_m": opt(dune_rms),
+                "current_angle_deg": dune_params.current_angle,
+            })),
+        })
+    };
+    if a.dry_run {
+        if a.json {
+            println!("{}", serde_json::to_string(&summary(None, 0, &[], 0.0))?);
+        } else {
+            eprintln!("dry run: nothing written");
+        }
+        if a.quiet && !a.json {
+            println!("{estimate}");
+        }
+        return Ok(());
+    }
+    let bar = bar(h as u64, "tile rows", quiet);
+    let t0 = Instant::now();
+    let (seams, bytes, files) = match &a.out {
+        Some(out) => {
+            let rep = write_stream(out, src, &spec, |d| bar.set_position(d as u64))?;
+            (rep.seams, rep.bytes, rep.files)
+        }
+        None => {
+            let (tnx, tny) = src.tile_size();
+            let mut m = SeamMeter::new(w, tnx, tny);
+            let mut row = vec![0.0f32; w];
+            for y in 0..h {
+                src.fill_row(y, &mut row);
+                m.push_row(&row);
+                if y % 64 == 0 {
+                    bar.set_position(y as u64);
+                }
+            }
+            (m.finish(), 0, Vec::new())
+        }
+    };
+    bar.finish_and_clear();
+    let elapsed = t0.elapsed().as_secs_f64();
+    if a.json {
+        let mut v = summary(Some(&seams), bytes, &files, elapsed);
+        v["total_s"] = serde_json::json!(start.elapsed().as_secs_f64());
+        println!("{}", serde_json::to_string(&v)?);
+    } else if !a.quiet {
+        let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}", x * 1e3));
+        let r = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.2}"));
+        eprintln!(
+            "seams (mean |jump|, mm): x inside {} across {} (ratio {}), y inside {} across {} (ratio {})",
+            f(seams.x.inside),
+            f(seams.x.across),
+            r(seams.x.ratio()),
+            f(seams.y.inside),
+            f(seams.y.across),
+            r(seams.y.ratio())
+        );
+        if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
+            eprintln!(
+                "dune spectrum slope {s:.2} (requested {:.2})",
+                -(2.0 * hurst + 2.0)
+            );
+        }
+        for p in &files {
+            eprintln!("wrote {}", p.display());
+        }
+        eprintln!(
+            "{} in {elapsed:.2} s ({:.0} rows/s, {:.1} MB/s)",
+            human(bytes),
+            h as f64 / elapsed.max(1e-9),
+            bytes as f64 / 1e6 / elapsed.max(1e-9)
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,158 @@
+//! Reading back a ripple volume written by [`super::output::write_netcdf`]: [`read`] returns a
+//! [`RippleFile`] with the grid, the elevation snapshots, the volume fields that were written
+//! and the run's parameters (from the `param_*` global attributes).
+//!
+//! This is how tiling and ray tracing take their seafloor from a file, and how the tests check
+//! that a written file says what the run computed.
+
+use std::path::Path;
+
+use netcdf3::{FileReader, NC_FILL_F32};
+
+use super::RippleError;
+use super::output::Field;
+use super::params::RippleParams;
+
+/// The content of a ripple NetCDF file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RippleFile {
+    /// Columns along x.
+    pub nx: usize,
+    /// Columns along y.
+    pub ny: usize,
+    /// Automaton levels of the volume fields (0 when none was written).
+    pub nz: usize,
+    /// Horizontal bin size, m.
+    pub bin_size: f64,
+    /// Automaton (layer) thickness, m.
+    pub layer_thickness: f64,
+    /// Model steps of the elevation snapshots.
+    pub times: Vec<u64>,
+    /// Elevation above the substrate, m, one `ny x nx` grid (rows of x) per snapshot.
+    pub elevation: Vec<Vec<f32>>,
+    /// Volume fields, each `nz x ny x nx` (z from the substrate up), NaN above the bed.
+    pub fields: Vec<(Field, Vec<f32>)>,
+    /// The run's parameters, rebuilt from the file's `param_*` attributes.
+    pub params: RippleParams,
+    /// The `cellsurf_version` attribute.
+    pub version: String,
+}
+
+impl RippleFile {
+    /// The volume field `f`, if it was written.
+    pub fn field(&self, f: Field) -> Option<&[f32]> {
+        self.fields
+            .iter()
+            .find(|(g, _)| *g == f)
+            .map(|(_, v)| v.as_slice())
+    }
+
+    /// The last elevation snapshot, if any.
+    pub fn final_elevation(&self) -> Option<&[f32]> {
+        self.elevation.last().map(|v| v.as_slice())
+    }
+}
+
+fn read_err(path: &Path, reason: impl std::fmt::Display) -> RippleError {
+    RippleError::Input {
+        path: path.display().to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+/// Reads a ripple NetCDF file. Errors name the file and what is missing or inconsistent.
+pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
+    let mut r = FileReader::open(path).map_err(|e| read_err(path, format!("{e:?}")))?;
+    let ds = r.data_set();
+    let dim = |name: &str| {
+        ds.dim_size(name).ok_or_else(|| {
+            read_err(
+                path,
+                format!("no dimension '{name}': not a cellsurf ripple file"),
+            )
+        })
+    };
+    let nx = dim("x")?;
+    let ny = dim("y")?;
+    let nz = ds.dim_size("z").unwrap_or(0);
+    let version = ds
+        .get_global_attr_as_string("cellsurf_version")
+        .ok_or_else(|| {
+            read_err(
+                path,
+                "no 'cellsurf_version' attribute: not a cellsurf ripple file",
+            )
+        })?;
+
+    let mut table = toml::Table::new();
+    let defaults = match toml::Value::try_from(RippleParams::default()) {
+        Ok(toml::Value::Table(t)) => t,
+        _ => toml::Table::new(),
+    };
+    for (key, default) in defaults {
+        let attr = format!("param_{key}");
+        let value = if let Some(v) = ds.get_global_attr_f64(&attr) {
+            match (default, v.first()) {
+                (toml::Value::Integer(_), Some(&x)) => toml::Value::Integer(x as i64),
+                (_, Some(&x)) => toml::Value::Float(x),
+                (_, None) => continue,
+            }
+        } else if let Some(s) = ds.get_global_attr_as_string(&attr) {
+            toml::Value::String(s)
+        } else {
+            continue;
+        };
+        table.insert(key, value);
+    }
+    let params: RippleParams = toml::Value::Table(table)
+        .try_into()
+        .map_err(|e| read_err(path, format!("parameters: {e}")))?;
+
+    let has_elevation = ds.get_var("elevation").is_some();
+    let written: Vec<Field> = Field::ALL
+        .into_iter()
+        .filter(|&f| f != Field::Elevation && ds.get_var(f.name()).is_some())
+        .collect();
+    let mut times = Vec::new();
+    let mut elevation = Vec::new();
+    if has_elevation {
+        let ts = r
+            .read_var_f32("time")
+            .map_err(|e| read_err(path, format!("time: {e:?}")))?;
+        let all = r
+            .read_var_f32("elevation")
+            .map_err(|e| read_err(path, format!("elevation: {e:?}")))?;
+        if all.len() != ts.len() * nx * ny {
+            return Err(read_err(path, "elevation has the wrong size"));
+        }
+        times = ts.iter().map(|&t| t as u64).collect();
+        elevation = all.chunks(nx * ny).map(|c| c.to_vec()).collect();
+    }
+    let mut fields = Vec::new();
+    for f in written {
+        let mut v = r
+            .read_var_f32(f.name())
+            .map_err(|e| read_err(path, format!("{}: {e:?}", f.name())))?;
+        if v.len() != nz * ny * nx {
+            return Err(read_err(path, format!("{} has the wrong size", f.name())));
+        }
+        for x in &mut v {
+            if *x == NC_FILL_F32 {
+                *x = f32::NAN;
+            }
+        }
+        fields.push((f, v));
+    }
+    Ok(RippleFile {
+        nx,
+        ny,
+        nz,
+        bin_size: params.bin_size,
+        layer_thickness: params.layer_thickness,
+        times,
+        elevation,
+        fields,
+        params,
+        version,
+    })
+}

@@ -1,0 +1,98 @@
+//! Tiling toroidal ripple volumes into large surfaces, and fractal rippled dunes.
+//!
+//! Staelens, Dupont & Henriet (Sect. 3.4, "Generating an infinite surface", Fig. 6): the ripple
+//! generator is a closed toroidal system, so its volumes tile into continuous infinite surfaces
+//! "without holes or gaps"; neighbouring tiles can come from the same step or from different but
+//! close steps ("ripple patches"), and "fractal properties of dunes can be used to generate
+//! rippled dunes" (Fig. 9).
+//!
+//! Principal types:
+//! - [`Tile`] ([`tileset`]): one toroidal ripple tile (elevation, optionally a volume field),
+//!   from an in-process [`crate::ripple::Ripple`] run or from a ripple NetCDF file.
+//! - [`Mosaic`] ([`mosaic`]): `mx x my` mosaic cells, each showing one tile ([`Choose`]: the
+//!   same tile everywhere, or seeded random "patches" from a pool), optionally cross-faded over
+//!   a band of bins at the tile edges ([`seam::edge_weights`]).
+//! - [`SeamStats`] / [`SeamMeter`] ([`seam`]): the seam statistic, mean |height jump| across
+//!   tile edges against the jump between neighbouring bins inside the tiles, per direction,
+//!   measured row by row.
+//! - [`FbmParams`], [`DuneField`] ([`fractal`]): periodic fractional Brownian relief by spectral
+//!   synthesis (Saupe 1988), or a band-limited relief around a dune wavelength; the radially
+//!   averaged spectrum and its slope.
+//! - [`RippledDunes`] ([`dunes`]): ripples riding on dunes, the mosaic re-oriented so that crests
+//!   stay perpendicular to the local current.
+//! - [`RowSource`] and the streaming writers ([`stream`]): a surface of any size written row by
+//!   row (NetCDF-3 64-bit offset with `y` as the record dimension, or `.npy`), memory
+//!   independent of the number of rows.
+//! - `figures` (feature `plot`): `ripple_fig6_tiles` and `ripple_fig9_fractal_dunes`, listed in
+//!   [`FIGURES`].
+
+pub mod dunes;
+#[cfg(feature = "plot")]
+pub mod figures;
+pub mod fractal;
+pub mod mosaic;
+pub mod seam;
+pub mod stream;
+pub mod tileset;
+
+pub use dunes::{DuneParams, RippledDunes};
+pub use fractal::{DuneField, FbmParams, Relief};
+pub use mosaic::{Choose, Mosaic};
+pub use seam::{SeamMeter, SeamStats};
+pub use stream::{RowSource, StreamFormat, StreamReport, StreamSpec};
+pub use tileset::Tile;
+
+/// The figures of the tiling and the fractal dunes, made by `cellsurf figures`.
+#[cfg(feature = "plot")]
+pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+
+/// Errors of tiling, fractal relief and streaming.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum TileError {
+    /// A parameter is out of range.
+    #[error("{parameter} = {value} is out of range: expected {expected}")]
+    Range {
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: String,
+        /// The valid range.
+        expected: String,
+    },
+    /// Tiles that cannot share a mosaic (different sizes, bins or layers).
+    #[error("tile {index} ({label}) does not match the first tile: {reason}")]
+    Mismatch {
+        /// Index of the tile in the pool.
+        index: usize,
+        /// Its label (file and step, or seed and step).
+        label: String,
+        /// What differs.
+        reason: String,
+    },
+    /// The ripple model or a ripple file failed.
+    #[error("ripple: {0}")]
+    Ripple(#[from] crate::ripple::RippleError),
+    /// Writing an output failed.
+    #[error("writing {path}: {reason}")]
+    Output {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+}
+
+impl TileError {
+    /// A [`TileError::Range`].
+    pub(crate) fn range(
+        parameter: &'static str,
+        value: impl std::fmt::Display,
+        expected: impl Into<String>,
+    ) -> Self {
+        TileError::Range {
+            parameter,
+            value: value.to_string(),
+            expected: expected.into(),
+        }
+    }
+}

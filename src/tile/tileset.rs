@@ -1,0 +1,306 @@
+//! [`Tile`]: one toroidal ripple tile, its bed elevation and optionally one volume field, taken
+//! from an in-process [`Ripple`] run ([`Tile::from_ripple`], [`tiles_from_run`]), from a ripple
+//! NetCDF file ([`tiles_from_file`]) or given
+//! directly ([`Tile::from_elevation`]); [`check_pool`] checks that tiles can share a mosaic.
+
+use super::TileError;
+use crate::ripple::output::{Field, volume_field, volume_levels};
+use crate::ripple::{Ripple, RippleParams};
+
+/// A volume field of a tile on `(z, y, x)`: `nz x ny x nx` values, NaN above the bed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileVolume {
+    /// Which field.
+    pub field: Field,
+    /// Levels (automata from the substrate up).
+    pub nz: usize,
+    /// Values, z-major then y then x.
+    pub data: Vec<f32>,
+}
+
+/// One toroidal tile: `ny` rows of `nx` elevations (m), bins `bin_size` m.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tile {
+    /// Bins along x.
+    pub nx: usize,
+    /// Bins along y.
+    pub ny: usize,
+    /// Bin size, m.
+    pub bin_size: f64,
+    /// Height of one automaton, m.
+    pub layer_thickness: f64,
+    /// Direction of the current that shaped the tile, degrees counter-clockwise from +x.
+    pub current_angle: f64,
+    /// Bed elevation, m, row-major (`y * nx + x`).
+    pub elevation: Vec<f32>,
+    /// A volume field, where asked.
+    pub volume: Option<TileVolume>,
+    /// Where the tile comes from ("seed 3, step 2500", "run.nc, step 3000").
+    pub label: String,
+}
+
+impl Tile {
+    /// A tile from an elevation grid (row-major, `nx x ny`), no volume. Errors: zero sizes, a
+    /// wrong length, a non-positive bin size, non-finite heights.
+    pub fn from_elevation(
+        nx: usize,
+        ny: usize,
+        bin_size: f64,
+        elevation: Vec<f32>,
+        label: impl Into<String>,
+    ) -> Result<Tile, TileError> {
+        let t = Tile {
+            nx,
+            ny,
+            bin_size,
+            layer_thickness: bin_size,
+            current_angle: 0.0,
+            elevation,
+            volume: None,
+            label: label.into(),
+        };
+        t.validate()?;
+        Ok(t)
+    }
+
+    /// The current state of a run as a tile, with the volume field `field` if asked.
+    pub fn from_ripple(r: &Ripple, field: Option<Field>, label: impl Into<String>) -> Tile {
+        let (nx, ny) = r.size();
+        let p = r.params();
+        let volume = field
+            .filter(|f| *f != Field::Elevation)
+            .map(|f| TileVolume {
+                field: f,
+                nz: volume_levels(r),
+                data: volume_field(r, f, f32::NAN),
+            });
+        Tile {
+            nx,
+            ny,
+            bin_size: p.bin_size,
+            layer_thickness: p.layer_thickness,
+            current_angle: p.current_angle,
+            elevation: r.elevation().iter().map(|&v| v as f32).collect(),
+            volume,
+            label: label.into(),
+        }
+    }
+
+    /// Checks sizes and values.
+    pub fn validate(&self) -> Result<(), TileError> {
+        if self.nx == 0 || self.ny == 0 {
+            return Err(TileError::range(
+                "tile size",
+                format!("{}x{}", self.nx, self.ny),
+                "at least 1x1 bins",
+            ));
+        }
+        if self.elevation.len() != self.nx * self.ny {
+            return Err(TileError::range(
+                "tile elevation",
+                format!("{} values", self.elevation.len()),
+                format!("nx x ny = {} values", self.nx * self.ny),
+            ));
+        }
+        if !(self.bin_size.is_finite() && self.bin_size > 0.0) {
+            return Err(TileError::range("bin_size", self.bin_size, "> 0 m"));
+        }
+        if let Some(v) = self.elevation.iter().find(|v| !v.is_finite()) {
+            return Err(TileError::range(
+                "tile elevation",
+                v,
+                "finite heights (no NaN or infinity)",
+            ));
+        }
+        if let Some(v) = &self.volume {
+            if v.data.len() != v.nz * self.nx * self.ny {
+                return Err(TileError::range(
+                    "tile volume",
+                    format!("{} values", v.data.len()),
+                    format!("nz x ny x nx = {} values", v.nz * self.nx * self.ny),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The elevation at bin `(x, y)`, indices taken modulo the tile (toroidal).
+    #[inline]
+    pub fn at(&self, x: usize, y: usize) -> f32 {
+        self.elevation[(y % self.ny) * self.nx + x % self.nx]
+    }
+}
+
+/// Runs `p` once per seed of `seeds` and keeps a tile at each step of `steps` (every run goes to
+/// the largest step); `field` adds that volume field to every tile. Tiles are ordered by seed,
+/// then step. Every run goes to the largest step asked for, whatever `p.steps` says. Errors: no
+/// seeds, no steps, or parameters the ripple model rejects.
+pub fn tiles_from_run(
+    p: &RippleParams,
+    seeds: &[u64],
+    steps: &[u64],
+    field: Option<Field>,
+    mut progress: impl FnMut(u64),
+) -> Result<Vec<Tile>, TileError> {
+    if seeds.is_empty() {
+        return Err(TileError::range("seeds", "(none)", "at least one seed"));
+    }
+    if steps.is_empty() {
+        return Err(TileError::range("snapshots", "(none)", "at least one step"));
+    }
+    let mut steps = steps.to_vec();
+    steps.sort_unstable();
+    steps.dedup();
+    let last = *steps.last().unwrap_or(&0);
+    let mut tiles = Vec::new();
+    let mut done = 0;
+    for &seed in seeds {
+        let q = RippleParams { seed, ..p.clone() };
+        let mut r = Ripple::new(&q)?;
+        let mut k = 0;
+        for i in 0..=last {
+            if i > 0 {
+                r.step();
+                done += 1;
+                progress(done);
+            }
+            if k < steps.len() && steps[k] == i {
+                tiles.push(Tile::from_ripple(
+                    &r,
+                    field,
+                    format!("seed {seed}, step {i}"),
+                ));
+                k += 1;
+            }
+        }
+    }
+    Ok(tiles)
+}
+
+/// Checks that the tiles of a pool can share a mosaic: at least one, each valid, all with the
+/// size, bin size and (when they carry volumes) layer thickness and field of the first.
+pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
+    let first = tiles
+        .first()
+        .ok_or_else(|| TileError::range("tiles", "(none)", "at least one tile"))?;
+    for (i, t) in tiles.iter().enumerate() {
+        t.validate()?;
+        let bad = |reason: String| TileError::Mismatch {
+            index: i,
+            label: t.label.clone(),
+            reason,
+        };
+        if (t.nx, t.ny) != (first.nx, first.ny) {
+            return Err(bad(format!(
+                "size {}x{} bins, first {}x{}",
+                t.nx, t.ny, first.nx, first.ny
+            )));
+        }
+        if (t.bin_size - first.bin_size).abs() > 1e-9 * first.bin_size {
+            return Err(bad(format!(
+                "bin size {} m, first {} m",
+                t.bin_size, first.bin_size
+            )));
+        }
+        match (&t.volume, &first.volume) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                if a.field != b.field {
+                    return Err(bad(format!(
+                        "volume field {}, first {}",
+                        a.field.name(),
+                        b.field.name()
+                    )));
+                }
+                if (t.layer_thickness - first.layer_thickness).abs() > 1e-9 * first.layer_thickness
+                {
+                    return Err(bad(format!(
+                        "layer thickness {} m, first {} m",
+                        t.layer_thickness, first.layer_thickness
+                    )));
+                }
+            }
+            _ => return Err(bad("one has a volume field and the other not".into())),
+        }
+    }
+    Ok(())
+}
+
+/// The tiles of a ripple NetCDF file ([`crate::ripple::input::read`]): one per snapshot step of
+/// `steps` (default: the last snapshot), with the volume field `field` if asked. The file holds
+/// the volume of its final state only, so a volume goes with the last snapshot alone. Errors
+/// name the file, the step or the field that is missing.
+pub fn tiles_from_file(
+    path: &std::path::Path,
+    steps: Option<&[u64]>,
+    field: Option<Field>,
+) -> Result<Vec<Tile>, TileError> {
+    let f = crate::ripple::input::read(path)?;
+    let name = path.display().to_string();
+    let last = f.times.len().checked_sub(1).ok_or_else(|| {
+        TileError::range(
+            "tile",
+            &name,
+            "a ripple file with at least one elevation snapshot",
+        )
+    })?;
+    let picks: Vec<usize> = match steps {
+        None => vec![last],
+        Some(s) => s
+            .iter()
+            .map(|t| {
+                f.times.iter().position(|x| x == t).ok_or_else(|| {
+                    TileError::range(
+                        "snapshots",
+                        t,
+                        format!("a snapshot step of {name}: {:?}", f.times),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let volume = match field.filter(|f| *f != Field::Elevation) {
+        None => None,
+        Some(fl) => {
+            let data = f.field(fl).ok_or_else(|| {
+                TileError::range(
+                    "volume",
+                    fl.name(),
+                    format!("a volume field written in {name}"),
+                )
+            })?;
+            if let Some(&i) = picks.iter().find(|&&i| i != last) {
+                return Err(TileError::range(
+                    "snapshots",
+                    f.times[i],
+                    format!(
+                        "the last snapshot ({}) with a volume: {name} holds the final volume only",
+                        f.times[last]
+                    ),
+                ));
+            }
+            Some(TileVolume {
+                field: fl,
+                nz: f.nz,
+                data: data.to_vec(),
+            })
+        }
+    };
+    picks
+        .into_iter()
+        .map(|i| {
+            let t = Tile {
+                nx: f.nx,
+                ny: f.ny,
+                bin_size: f.bin_size,
+                layer_thickness: f.layer_thickness,
+                current_angle: f.params.current_angle,
+                elevation: f.elevation[i].clone(),
+                volume: volume.clone(),
+                label: format!("{name}, step {}", f.times[i]),
+            };
+            t.validate()?;
+            Ok(t)
+        })
+        .collect()
+}

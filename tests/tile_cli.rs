@@ -1,0 +1,131 @@
+//! `cellsurf tile` as a user meets it: tiles from a ripple file and generated in-process, the
+//! JSON summary (no NaN), the dry run's disk estimate, and bad input rejected with a message
+//! naming the parameter and a non-zero exit.
+#![cfg(feature = "cli")]
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Output;
+
+use common::cellsurf;
+
+fn tmp(name: &str) -> PathBuf {
+    common::tmp_in("tile-cli", name)
+}
+
+const GEN: &[&str] = &[
+    "tile",
+    "--generate",
+    "--nx",
+    "24",
+    "--ny",
+    "12",
+    "--layers",
+    "10",
+    "--steps",
+    "40",
+];
+
+fn json(o: &Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+#[test]
+fn tiles_from_a_ripple_file_with_volume() {
+    let r = tmp("r.nc");
+    let o = cellsurf(&[
+        "ripple",
+        "--nx",
+        "24",
+        "--ny",
+        "12",
+        "--layers",
+        "10",
+        "--steps",
+        "40",
+        "--quiet",
+        "--out",
+        r.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let m = tmp("m.nc");
+    let v = json(&cellsurf(&[
+        "tile",
+        "--tile",
+        r.to_str().unwrap(),
+        "--mosaic",
+        "3x2",
+        "--volume",
+        "impedance",
+        "--out",
+        m.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(v["width"], 72);
+    assert_eq!(v["height"], 24);
+    assert!(v["levels"].as_u64().unwrap() > 0);
+    assert_eq!(v["bytes"], std::fs::metadata(&m).unwrap().len());
+    let est = v["estimated_bytes"].as_f64().unwrap();
+    assert!((est - v["bytes"].as_f64().unwrap()).abs() < 8192.0);
+    // a snapshot the file does not hold
+    let o = cellsurf(&["tile", "--tile", r.to_str().unwrap(), "--snapshots", "7"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("snapshots = 7 is out of range"));
+}
+
+#[test]
+fn one_tile_json_has_no_nan_and_dry_run_estimates() {
+    let mut a = GEN.to_vec();
+    a.extend(["--mosaic", "1x1", "--json"]);
+    let o = cellsurf(&a);
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(!text.contains("NaN") && !text.contains("nan"), "{text}");
+    let v = json(&o);
+    assert_eq!(v["seams"]["x"]["seams"], 1);
+    let mut a = GEN.to_vec();
+    a.extend([
+        "--bin-size",
+        "0.01",
+        "--extent",
+        "1000x1000",
+        "--dry-run",
+        "--json",
+    ]);
+    let v = json(&cellsurf(&a));
+    // 1 km at 1 cm: 1e10 bins of 4 bytes, rounded up to whole tiles of 24 x 12 bins
+    assert_eq!(v["width"], 100_008);
+    assert_eq!(v["height"], 100_008);
+    assert!(v["estimated_bytes"].as_f64().unwrap() > 4.0e10);
+    assert_eq!(v["bytes"], 0);
+}
+
+#[test]
+fn bad_input_is_named() {
+    for (extra, want) in [
+        (&["--mosaic", "0x2"][..], "mosaic = 0x2 is out of range"),
+        (&["--mosaic", "2"][..], "--mosaic = '2' is not valid"),
+        (&["--blend", "99"][..], "blend = 99 is out of range"),
+        (&["--choose", "all"][..], "choose = all is out of range"),
+        (
+            &["--dunes", "--hurst", "1.2"][..],
+            "hurst = 1.2 is out of range",
+        ),
+        (&["--extent", "-5x3"][..], "--extent = -5x3 is out of range"),
+        (
+            &["--volume", "impedance", "--dunes"][..],
+            "--volume with --dunes",
+        ),
+    ] {
+        let mut a = GEN.to_vec();
+        a.extend(extra);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{extra:?} accepted");
+        assert!(err.contains(want), "{extra:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let o = cellsurf(&["tile"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no tiles"));
+}
