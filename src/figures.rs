@@ -100,6 +100,7 @@ pub fn all() -> impl Iterator<Item = &'static Figure> {
         .chain(crate::dunes::FIGURES)
         .chain(crate::cursor::FIGURES)
         .chain(crate::ripple::FIGURES)
+        .chain(crate::raytrace::FIGURES)
         .chain(crate::tile::FIGURES)
 }
 

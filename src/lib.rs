@@ -21,6 +21,7 @@ pub mod lattice;
 pub mod observe;
 #[cfg(feature = "plot")]
 pub mod plot;
+pub mod raytrace;
 pub mod ripple;
 pub mod rule;
 pub mod sampler;

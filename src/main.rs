@@ -57,6 +57,8 @@ enum Cmd {
     Converge(ConvergeArgs),
     /// Sand-ripple volume generator: sand and water volumes, written for acoustic models.
     Ripple(cmd::ripple::Args),
+    /// Acoustic ray tracing over a (generated) seafloor section: rays, shadows, grazing angles.
+    Raytrace(cmd::raytrace::Args),
     /// Tiling: a large surface (and volume) from toroidal ripple tiles, optionally on fractal
     /// dunes, streamed row by row to NetCDF-3 or .npy.
     Tile(cmd::tile::Args),
@@ -187,6 +189,7 @@ fn main() -> ExitCode {
         Cmd::Figures(a) => make_figures(a),
         Cmd::Converge(a) => converge_cmd(a),
         Cmd::Ripple(a) => cmd::ripple::run(a),
+        Cmd::Raytrace(a) => cmd::raytrace::run(a),
         Cmd::Tile(a) => cmd::tile::run(a),
         Cmd::WindRipples(a) => cmd::windripples::run(a),
         Cmd::Dunes(a) => cmd::dunes::run(a),

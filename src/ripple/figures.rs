@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use plotters::style::RGBColor;
 
-use super::output::{Field, run_recording, volume_field, volume_levels};
+use super::output::{Field, run_recording, surface_field, volume_field, volume_levels};
 use super::spectrum::{Analysis, moore_average};
 use super::{Ripple, RippleParams};
 use crate::figures::{Figure, FigureError};
@@ -266,17 +266,9 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 
 /// The value of `f` for the top automaton of each column (NaN on bare columns).
 fn surface_values(r: &Ripple, f: Field) -> Vec<f64> {
-    let (nx, ny) = r.size();
-    let vol = volume_field(r, f, f32::NAN);
-    (0..nx * ny)
-        .map(|c| {
-            let h = r.volume().height(c);
-            if h == 0 {
-                f64::NAN
-            } else {
-                vol[(h - 1) * nx * ny + c] as f64
-            }
-        })
+    surface_field(r, f)
+        .into_iter()
+        .map(|v| v.unwrap_or(f64::NAN))
         .collect()
 }
 

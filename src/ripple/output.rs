@@ -214,6 +214,19 @@ pub fn volume_field(r: &Ripple, field: Field, fill: f32) -> Vec<f32> {
     out
 }
 
+/// The value of `field` for the top automaton of each column, row-major (`None` on bare
+/// columns, where the substrate shows).
+pub fn surface_field(r: &Ripple, field: Field) -> Vec<Option<f64>> {
+    let (nx, ny) = r.size();
+    let vol = volume_field(r, field, f32::NAN);
+    (0..nx * ny)
+        .map(|c| {
+            let h = r.volume().height(c);
+            (h > 0).then(|| vol[(h - 1) * nx * ny + c] as f64)
+        })
+        .collect()
+}
+
 fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     RippleError::Output {
         path: path.display().to_string(),

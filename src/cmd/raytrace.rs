@@ -1,0 +1,370 @@
+//! `cellsurf raytrace`: acoustic rays from a transducer S over a seafloor section
+//! ([`cellsurf::raytrace`]): the insonified and shadowed floor, grazing angles and reflection
+//! coefficients, written as CSV; the section as a BELLHOP `.bty` and CSV; `--json` prints a
+//! summary.
+//!
+//! The floor is a section through the built-in generated ripple field (a 3-D ripple run, seed
+//! `--seed`, tiled along the section) or through a ripple NetCDF file (`--seafloor`),
+//! `--water-depth` below the surface, or a `--seafloor-csv` file.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+
+use cellsurf::raytrace::export::{
+    write_bty, write_floor_csv, write_insonification_csv, write_rays_csv,
+};
+use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
+use cellsurf::raytrace::shadow::{Light, straight_insonify};
+use cellsurf::raytrace::{
+    Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
+    Tracer, VERSION, insonify,
+};
+
+/// Sound-speed profile kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ProfileKind {
+    /// Constant --c0.
+    Isovelocity,
+    /// c = --c0 + --gradient z.
+    Linear,
+    /// Munk (1974) canonical profile.
+    Munk,
+    /// Piecewise linear from --profile-table (depth, speed rows).
+    Table,
+    /// Mackenzie (1981) from --temperature-table and --salinity-table or --salinity.
+    Mackenzie,
+}
+
+/// Options of `cellsurf raytrace`. Negative numbers are read as values (upward angles).
+#[derive(clap::Args)]
+#[command(allow_negative_numbers = true)]
+pub struct Args {
+    /// Depth of the transducer S, m.
+    #[arg(long, default_value_t = 10.0)]
+    source_depth: f64,
+    /// Range of S along the section, m.
+    #[arg(long, default_value_t = 0.0)]
+    source_range: f64,
+    /// Smallest launch angle, degrees below the horizontal (negative: upward) [default 1.5].
+    #[arg(long)]
+    angle_min: Option<f64>,
+    /// Largest launch angle, degrees below the horizontal [default 25].
+    #[arg(long)]
+    angle_max: Option<f64>,
+    /// Opening angle of the sonar, degrees (with --centre-angle, instead of the two limits).
+    #[arg(long)]
+    opening: Option<f64>,
+    /// Centre of the opening, degrees below the horizontal.
+    #[arg(long)]
+    centre_angle: Option<f64>,
+    /// Rays of the initial fan (more are added at shadow edges).
+    #[arg(long, default_value_t = 200)]
+    rays: usize,
+    /// Sound-speed profile.
+    #[arg(long, value_enum, default_value_t = ProfileKind::Isovelocity)]
+    profile: ProfileKind,
+    /// Speed at the surface (isovelocity, linear), m/s.
+    #[arg(long, default_value_t = 1500.0)]
+    c0: f64,
+    /// dc/dz of the linear profile, 1/s.
+    #[arg(long, default_value_t = 0.0)]
+    gradient: f64,
+    /// Sound-speed table: `depth, speed` rows (m, m/s), from 0 m to at least the floor.
+    #[arg(long, value_name = "FILE")]
+    profile_table: Option<PathBuf>,
+    /// Mackenzie: `depth, temperature` rows (m, deg C).
+    #[arg(long, value_name = "FILE")]
+    temperature_table: Option<PathBuf>,
+    /// Mackenzie: `depth, salinity` rows (m, ppt); without it --salinity at every depth.
+    #[arg(long, value_name = "FILE")]
+    salinity_table: Option<PathBuf>,
+    /// Mackenzie: constant salinity, ppt.
+    #[arg(long, default_value_t = 35.0)]
+    salinity: f64,
+    /// Depth of the substrate under the generated ripples, m (floor depth = this - elevation).
+    #[arg(long, default_value_t = 12.0)]
+    water_depth: f64,
+    /// Seafloor from a CSV file of `x, depth[, impedance]` rows (m, m, kg m^-2 s^-1) instead
+    /// of the generated ripple field.
+    #[arg(long, value_name = "FILE", conflicts_with = "seafloor")]
+    seafloor_csv: Option<PathBuf>,
+    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`): its last elevation and
+    /// top-automaton impedance, cut like the generated field (--azimuth, --length).
+    #[arg(long, value_name = "FILE.nc")]
+    seafloor: Option<PathBuf>,
+    /// Length of the section through the generated ripple mosaic, m.
+    #[arg(long, default_value_t = 60.0)]
+    length: f64,
+    /// Direction of the section through the ripple field, degrees from +x (the current).
+    #[arg(long, default_value_t = 0.0)]
+    azimuth: f64,
+    /// Seed of the generated ripple field.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Ray step (arc length), m.
+    #[arg(long, default_value_t = 0.25)]
+    ds: f64,
+    /// Most reflections a ray (surface and floor).
+    #[arg(long, default_value_t = 10)]
+    max_bounces: usize,
+    /// Longest ray path, m [default: 3 x (section span + water depth)].
+    #[arg(long)]
+    max_path: Option<f64>,
+    /// Most rays in all (initial fan and shadow-edge bisection).
+    #[arg(long, default_value_t = 2_000_000)]
+    max_rays: usize,
+    /// Straight-line (line-of-sight) visibility instead of refracted rays.
+    #[arg(long)]
+    straight: bool,
+    /// Insonification CSV: one row a floor vertex (lit, grazing angle, travel time, R0).
+    #[arg(long, value_name = "FILE.csv")]
+    out: Option<PathBuf>,
+    /// Ray paths of the initial fan as CSV (through floor reflections, up to --max-bounces).
+    #[arg(long, value_name = "FILE.csv")]
+    rays_csv: Option<PathBuf>,
+    /// BELLHOP bathymetry file of the section.
+    #[arg(long, value_name = "FILE.bty")]
+    bty: Option<PathBuf>,
+    /// The section as CSV (x, depth, impedance), readable by --seafloor-csv.
+    #[arg(long, value_name = "FILE.csv")]
+    seafloor_csv_out: Option<PathBuf>,
+    /// Print one JSON summary on stdout.
+    #[arg(long)]
+    json: bool,
+    /// No summary on stderr.
+    #[arg(long)]
+    quiet: bool,
+}
+
+fn read(path: &Path, what: &str) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("reading {what} {}", path.display()))
+}
+
+fn profile(a: &Args) -> Result<SoundSpeed> {
+    Ok(match a.profile {
+        ProfileKind::Isovelocity => SoundSpeed::Isovelocity(a.c0),
+        ProfileKind::Linear => SoundSpeed::Linear {
+            c0: a.c0,
+            g: a.gradient,
+        },
+        ProfileKind::Munk => SoundSpeed::Munk(Munk::default()),
+        ProfileKind::Table => {
+            let Some(p) = &a.profile_table else {
+                bail!("--profile table needs --profile-table FILE (depth, speed rows)");
+            };
+            SoundSpeed::parse_table(&read(p, "--profile-table")?)
+                .with_context(|| format!("in --profile-table {}", p.display()))?
+        }
+        ProfileKind::Mackenzie => {
+            let Some(t) = &a.temperature_table else {
+                bail!(
+                    "--profile mackenzie needs --temperature-table FILE (depth, temperature rows)"
+                );
+            };
+            let t_text = read(t, "--temperature-table")?;
+            let s_text;
+            let s = match &a.salinity_table {
+                Some(p) => {
+                    s_text = read(p, "--salinity-table")?;
+                    SalinitySource::Table(&s_text)
+                }
+                None => SalinitySource::Constant(a.salinity),
+            };
+            SoundSpeed::Mackenzie(Mackenzie::parse(&t_text, s)?)
+        }
+    })
+}
+
+fn floor(a: &Args) -> Result<Seafloor> {
+    if let Some(p) = &a.seafloor_csv {
+        return Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
+            .with_context(|| format!("in --seafloor-csv {}", p.display()));
+    }
+    let surf = match &a.seafloor {
+        Some(p) => {
+            let f = cellsurf::ripple::input::read(p)
+                .with_context(|| format!("reading --seafloor {}", p.display()))?;
+            RippleSurface::from_file(&f)
+                .with_context(|| format!("in --seafloor {}", p.display()))?
+        }
+        None => RippleSurface::generated(a.seed)?,
+    };
+    let line = SectionLine::Line {
+        x0: surf.bin / 2.0,
+        y0: (surf.ny / 2) as f64 * surf.bin + surf.bin / 2.0,
+        azimuth_deg: a.azimuth,
+        length: a.length,
+        spacing: surf.bin,
+    };
+    Ok(surf.grid().section(line, a.water_depth, 0.0)?)
+}
+
+fn fan_angles(a: &Args) -> Result<(f64, f64)> {
+    match (a.opening, a.centre_angle, a.angle_min, a.angle_max) {
+        (Some(o), Some(c), None, None) => {
+            if !(o.is_finite() && (0.0..=180.0).contains(&o)) {
+                bail!("opening = {o} is out of range: expected degrees in [0, 180]");
+            }
+            Ok((c - o / 2.0, c + o / 2.0))
+        }
+        (None, None, lo, hi) => Ok((lo.unwrap_or(1.5), hi.unwrap_or(25.0))),
+        (Some(_), None, ..) | (None, Some(_), ..) => {
+            bail!("--opening and --centre-angle go together")
+        }
+        _ => bail!("give either --opening with --centre-angle, or --angle-min/--angle-max"),
+    }
+}
+
+/// Runs the subcommand.
+pub fn run(a: Args) -> Result<()> {
+    let start = Instant::now();
+    let prof = profile(&a)?;
+    let fl = floor(&a)?;
+    let tracer = Tracer::new(&prof, &fl)?;
+    let (amin, amax) = fan_angles(&a)?;
+    let (x0, x1) = fl.x_range();
+    let max_path = a.max_path.unwrap_or(3.0 * (x1 - x0 + fl.max_depth()));
+    let trace = TraceOptions {
+        ds: a.ds,
+        max_path,
+        max_bounces: a.max_bounces,
+        stop_at_bottom: true,
+        record: false,
+    };
+    let fan = Fan::Point {
+        x: a.source_range,
+        z: a.source_depth,
+        min_deg: amin,
+        max_deg: amax,
+        rays: a.rays,
+    };
+    let ins = if a.straight {
+        fan.validate(&tracer)?;
+        trace.validate()?;
+        let c = prof.speed(a.source_depth);
+        straight_insonify(&fl, Light::Point(a.source_range, a.source_depth), c)
+    } else {
+        let o = InsonifyOptions {
+            trace,
+            max_rays: a.max_rays,
+            ..InsonifyOptions::default()
+        };
+        insonify(&tracer, &fan, &o)?
+    };
+    let mut params: Vec<(String, String)> = vec![
+        ("profile".into(), prof.describe()),
+        ("source_range_m".into(), a.source_range.to_string()),
+        ("source_depth_m".into(), a.source_depth.to_string()),
+        ("angles_deg".into(), format!("{amin} to {amax}")),
+        ("rays".into(), a.rays.to_string()),
+        ("ds_m".into(), a.ds.to_string()),
+        ("max_bounces".into(), a.max_bounces.to_string()),
+        ("max_path_m".into(), max_path.to_string()),
+        (
+            "mode".into(),
+            if a.straight {
+                "straight".into()
+            } else {
+                "rays".into()
+            },
+        ),
+    ];
+    match (&a.seafloor_csv, &a.seafloor) {
+        (Some(p), _) => params.push(("seafloor".into(), format!("csv {}", p.display()))),
+        (None, Some(p)) => params.push((
+            "seafloor".into(),
+            format!(
+                "ripple file {}, section azimuth {} deg, length {} m, water depth {} m",
+                p.display(),
+                a.azimuth,
+                a.length,
+                a.water_depth
+            ),
+        )),
+        (None, None) => params.push((
+            "seafloor".into(),
+            format!(
+                "generated ripple (seed {}), section azimuth {} deg, length {} m, water depth {} m",
+                a.seed, a.azimuth, a.length, a.water_depth
+            ),
+        )),
+    }
+    let mut written = Vec::new();
+    if let Some(p) = &a.out {
+        write_insonification_csv(p, &fl, &prof, &ins, &params)?;
+        written.push(p.clone());
+    }
+    if let Some(p) = &a.rays_csv {
+        let show = TraceOptions {
+            stop_at_bottom: false,
+            record: true,
+            ..trace
+        };
+        let n = a.rays;
+        let rays = (0..n)
+            .map(|i| {
+                let t = if n > 1 {
+                    i as f64 / (n - 1) as f64
+                } else {
+                    0.0
+                };
+                let (x, z, ang) = fan.launch(t);
+                tracer.trace(x, z, ang, &show)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        write_rays_csv(p, &rays, &params)?;
+        written.push(p.clone());
+    }
+    if let Some(p) = &a.bty {
+        write_bty(p, &fl, &params)?;
+        written.push(p.clone());
+    }
+    if let Some(p) = &a.seafloor_csv_out {
+        write_floor_csv(p, &fl, &params)?;
+        written.push(p.clone());
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    let lit = ins.insonified_fraction();
+    if a.json {
+        let v = serde_json::json!({
+            "version": VERSION,
+            "profile": prof.name(),
+            "vertices": fl.len(),
+            "rays": ins.rays,
+            "fan_rays": a.rays,
+            "shadow_edges": ins.edges,
+            "truncated": ins.truncated,
+            "insonified_fraction": lit,
+            "shadowed_fraction": 1.0 - lit,
+            "max_snell_drift": ins.max_snell_drift,
+            "elapsed_s": elapsed,
+            "parameters": params
+                .iter()
+                .map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone())))
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
+            "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        });
+        println!("{}", serde_json::to_string(&v)?);
+    } else if !a.quiet {
+        eprintln!(
+            "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} %, shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
+            fl.len(),
+            ins.rays,
+            ins.edges,
+            if ins.truncated {
+                ", ray budget exhausted"
+            } else {
+                ""
+            },
+            lit * 100.0,
+            (1.0 - lit) * 100.0,
+            ins.max_snell_drift
+        );
+        for w in &written {
+            eprintln!("wrote {}", w.display());
+        }
+    }
+    Ok(())
+}
