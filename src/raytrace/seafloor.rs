@@ -555,13 +555,14 @@ impl RippleSurface {
 
     /// The built-in generated seafloor: a 3-D ripple run with the paper's Fig. 3 settings
     /// (scene `ripple_fig3`: d50 0.2 mm, sorting 1 phi, current 0.5 m/s along +x) on
-    /// 128 x 16 columns of 5 mm (a 0.64 m x 0.08 m tile), 3000 steps, seed `seed`.
+    /// 128 x 16 columns of 5 mm (a 0.64 m x 0.08 m tile), the defaults' 10,000 steps, seed
+    /// `seed`.
     pub fn generated(seed: u64) -> Result<Self, RaytraceError> {
         let p = crate::ripple::RippleParams {
             nx: 128,
             ny: 16,
             layers: 30,
-            steps: 3000,
+            steps: 10000,
             sorting: 1.0,
             seed,
             ..crate::ripple::RippleParams::default()
