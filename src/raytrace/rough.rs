@@ -10,7 +10,6 @@
 
 use rand::RngExt;
 use rand_distr::StandardNormal;
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 
 use super::{RaytraceError, check_range, range_err};
@@ -75,24 +74,7 @@ pub fn gaussian_surface(
             a.push(Complex::new(re * w, im * w));
         }
     }
-    let mut planner = FftPlanner::<f64>::new();
-    let fx = planner.plan_fft_inverse(nx);
-    for row in a.chunks_exact_mut(nx) {
-        fx.process(row);
-    }
-    if ny > 1 {
-        let fy = planner.plan_fft_inverse(ny);
-        let mut col = vec![Complex::new(0.0, 0.0); ny];
-        for i in 0..nx {
-            for j in 0..ny {
-                col[j] = a[j * nx + i];
-            }
-            fy.process(&mut col);
-            for j in 0..ny {
-                a[j * nx + i] = col[j];
-            }
-        }
-    }
+    crate::ripple::spectrum::fft2(&mut a, nx, ny, true);
     let mut h: Vec<f64> = a.iter().map(|c| c.re).collect();
     let mean = h.iter().sum::<f64>() / h.len() as f64;
     let mut ss = 0.0;
