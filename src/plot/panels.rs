@@ -98,6 +98,8 @@ pub fn lattice_panels(
         let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(PlotError::drawing)?;
         if !title.is_empty() {
+            let avail = f64::from(width.saturating_sub(2 * GAP));
+            let title_font = fit_font(&root, title, title_font, FontStyle::Bold, avail);
             let style = ("sans-serif", title_font, FontStyle::Bold)
                 .into_font()
                 .color(&BLACK)
@@ -119,10 +121,25 @@ pub fn lattice_panels(
             let x0 = GAP + c * cell_w as u32;
             let y0 = fig_title_h + r * cell_h as u32;
             if !p.title.is_empty() {
+                let size = fit_font(
+                    &root,
+                    &p.title,
+                    panel_font,
+                    FontStyle::Normal,
+                    f64::from(box_w),
+                );
+                let style = if size < panel_font {
+                    ("sans-serif", size)
+                        .into_font()
+                        .color(&BLACK)
+                        .pos(Pos::new(HPos::Center, VPos::Center))
+                } else {
+                    panel_style.clone()
+                };
                 root.draw(&Text::new(
                     p.title.clone(),
                     ((x0 + box_w / 2) as i32, (y0 + panel_title_h / 2) as i32),
-                    panel_style.clone(),
+                    style,
                 ))
                 .map_err(PlotError::drawing)?;
             }
@@ -150,4 +167,23 @@ pub fn lattice_panels(
     let png = encode_png(&buf, width, height)?;
     crate::io::write_atomic(path, &png)?;
     Ok(())
+}
+
+/// `size`, shrunk so that `text` in that font is at most `avail` pixels wide.
+fn fit_font<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    text: &str,
+    size: f64,
+    style: FontStyle,
+    avail: f64,
+) -> f64 {
+    match root.estimate_text_size(
+        text,
+        &("sans-serif", size, style)
+            .into_font()
+            .into_text_style(root),
+    ) {
+        Ok((w, _)) if f64::from(w) > avail && w > 0 => size * avail / f64::from(w),
+        _ => size,
+    }
 }

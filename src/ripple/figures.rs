@@ -345,14 +345,12 @@ fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let path = dir.join("ripple_fig7_section.png");
     lattice_panels(
         &path,
-        &format!(
-            "Fig. 7: grain size {:.3}-{:.3} mm (yellow = coarse), section y = {y}, exaggeration {:.0}x",
-            lo,
-            hi,
-            r.params().bin_size / r.params().layer_thickness
-        ),
+        &format!("Fig. 7: grain size in a vertical section along the current (y = {y})"),
         &[Panel {
-            title: "vertical section along the current".into(),
+            title: format!(
+                "{lo:.3}-{hi:.3} mm (yellow = coarse), vertical exaggeration {:.0}x",
+                r.params().bin_size / r.params().layer_thickness
+            ),
             field: field(nx, nz, to_states(&avg, lo, hi)),
         }],
         1,
@@ -414,12 +412,12 @@ fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     lattice_panels(
         &path,
         &format!(
-            "Fig. 8: surface d {:.3}-{:.3} mm (yellow = coarse); d50 crest {:.3}, trough {:.3} mm",
-            lo, hi, an.d50_crest_mm, an.d50_trough_mm
+            "Fig. 8: d50 {:.3} mm on crests, {:.3} mm in troughs",
+            an.d50_crest_mm, an.d50_trough_mm
         ),
         &[
             Panel {
-                title: "surface grain size".into(),
+                title: format!("surface grain size {lo:.3}-{hi:.3} mm (yellow = coarse)"),
                 field: field(nx, ny, to_states(&d, lo, hi)),
             },
             Panel {
