@@ -1,11 +1,102 @@
 //! Output helpers shared by every scene: atomic file writes.
 //!
-//! [`write_atomic`] writes a whole file through a temporary sibling and a rename, so a
-//! reader never sees a partial output file, even when the run is interrupted.
+//! [`write_atomic`] writes a whole file through a temporary sibling ([`TempFile`]) and a
+//! rename, so a reader never sees a partial output file, even when the run is interrupted:
+//! the temporary files alive at any moment are listed, and [`remove_live_temporaries`] (called
+//! by the `cellsurf` program on Ctrl-C or SIGTERM) deletes them. [`check_output`] refuses,
+//! before any work, an output whose folder is missing or that is not a regular file (a
+//! symbolic link, a device, a FIFO or a folder would be replaced by the rename).
 
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The temporary files being written now.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A temporary sibling of an output file while it is written ([`temp_path`]). It is listed
+/// for [`remove_live_temporaries`] while alive, and removed when dropped unless
+/// [`TempFile::commit`] renamed it onto its output.
+#[derive(Debug)]
+pub struct TempFile {
+    path: PathBuf,
+}
+
+impl TempFile {
+    /// The temporary sibling of `output` (not created yet).
+    pub fn new(output: &Path) -> TempFile {
+        let path = temp_path(output);
+        if let Ok(mut live) = LIVE.lock() {
+            live.push(path.clone());
+        }
+        TempFile { path }
+    }
+
+    /// Its path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Renames it onto `output`.
+    pub fn commit(self, output: &Path) -> io::Result<()> {
+        fs::rename(&self.path, output)
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = fs::remove_file(&self.path);
+        if let Ok(mut live) = LIVE.lock() {
+            live.retain(|p| p != &self.path);
+        }
+    }
+}
+
+/// `text` cut to its first 200 characters (library errors can carry whole byte dumps).
+pub fn short(text: &str) -> String {
+    match text.char_indices().nth(200) {
+        Some((i, _)) => format!("{} ...", &text[..i]),
+        None => text.to_string(),
+    }
+}
+
+/// Deletes every temporary file being written (for an interrupted run).
+pub fn remove_live_temporaries() {
+    if let Ok(live) = LIVE.lock() {
+        for p in live.iter() {
+            let _ = fs::remove_file(p);
+        }
+    }
+}
+
+/// Checks, before a run, that `path` can be written as an output: its folder exists, and the
+/// path is either absent or a regular file. `option` names the command-line option in the
+/// error.
+pub fn check_output(option: &str, path: &Path) -> io::Result<()> {
+    let fail = |why: &str| {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{option} {}: {why}", path.display()),
+        ))
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return fail("the folder does not exist");
+    }
+    match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            fail("is a symbolic link; give the file it points to")
+        }
+        Ok(m) if !m.is_file() => {
+            fail("exists and is not a regular file (a folder, device or FIFO)")
+        }
+        _ => Ok(()),
+    }
+}
 
 /// The temporary sibling used while `path` is being written: `.NAME.tmp-PID` in the same
 /// folder, so that the final rename stays on one file system.
@@ -28,19 +119,14 @@ pub fn write_atomic_with<F>(path: &Path, fill: F) -> io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> io::Result<()>,
 {
-    let tmp = temp_path(path);
-    let result = (|| {
-        let file = fs::File::create(&tmp)?;
-        let mut w = io::BufWriter::new(file);
-        fill(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
+    check_output("output", path)?;
+    let tmp = TempFile::new(path);
+    let file = fs::File::create(tmp.path())?;
+    let mut w = io::BufWriter::new(file);
+    fill(&mut w)?;
+    let file = w.into_inner().map_err(|e| e.into_error())?;
+    file.sync_all()?;
+    tmp.commit(path)
 }
 
 /// Writes `bytes` to `path` atomically (see [`write_atomic_with`]).
@@ -61,6 +147,58 @@ mod tests {
         write_atomic(&p, b"second").unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"second");
         assert!(!temp_path(&p).exists());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn symbolic_links_and_special_files_are_refused() {
+        let dir = std::env::temp_dir().join(format!("cellsurf-io3-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let real = dir.join("real.txt");
+        write_atomic(&real, b"kept").unwrap();
+        let link = dir.join("link.txt");
+        let _ = fs::remove_file(&link);
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let e = write_atomic(&link, b"new").unwrap_err().to_string();
+        assert!(e.contains("symbolic link"), "{e}");
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&real).unwrap(), b"kept");
+        let e = check_output("--out", Path::new("/dev/null"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+        let e = check_output("--out", &dir.join("missing/x.nc"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("--out ") && e.contains("folder does not exist"),
+            "{e}"
+        );
+        assert!(check_output("--out", &dir.join("new.nc")).is_ok());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn live_temporaries_are_listed_until_committed_or_dropped() {
+        let dir = std::env::temp_dir().join(format!("cellsurf-io4-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("c.txt");
+        let t = TempFile::new(&out);
+        fs::write(t.path(), b"partial").unwrap();
+        assert!(LIVE.lock().unwrap().contains(&t.path().to_path_buf()));
+        remove_live_temporaries();
+        assert!(
+            !t.path().exists(),
+            "an interrupted run leaves no temporary file"
+        );
+        drop(t);
+        assert!(!LIVE.lock().unwrap().iter().any(|p| p.starts_with(&dir)));
         fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -179,6 +179,11 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
 }
 
 fn main() -> ExitCode {
+    // Ctrl-C or SIGTERM: no temporary output file is left behind.
+    let _ = ctrlc::set_handler(|| {
+        cellsurf::io::remove_live_temporaries();
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Flame(a) => grow(SceneKind::Flame, a),

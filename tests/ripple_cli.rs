@@ -107,3 +107,29 @@ fn scene_file_and_bad_input() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("fields"));
 }
+
+#[test]
+fn outputs_are_checked_before_the_run() {
+    let o = cellsurf(&[
+        "ripple",
+        "--nx",
+        "8",
+        "--ny",
+        "8",
+        "--steps",
+        "1",
+        "--out",
+        "/nonexistent-dir/x.nc",
+    ]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--out /nonexistent-dir/x.nc: the folder does not exist"),
+        "{e}"
+    );
+    let o = cellsurf(&["ripple", "--mode", "2d", "--ny", "5", "--steps", "1"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("ny = 5 is out of range"), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+}

@@ -24,10 +24,10 @@ pub struct Args {
     /// Scene file (TOML) with the same keys as the options (e.g. `current_angle = 30`).
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// 2d (one section along the current) or 3d.
+    /// 2d (one section along the current) or 3d [default 3d].
     #[arg(long)]
     mode: Option<Mode>,
-    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3).
+    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default slices].
     #[arg(long)]
     abstraction: Option<Abstraction>,
     /// Columns along x [default 128].
@@ -54,10 +54,10 @@ pub struct Args {
     /// Median grain size, mm [default 0.2].
     #[arg(long)]
     d50: Option<f64>,
-    /// Sorting sigma_phi, phi units [default 0.5].
+    /// Sorting sigma_phi, phi units, 0 to 2 [default 0.5].
     #[arg(long)]
     sorting: Option<f64>,
-    /// Current direction, degrees counter-clockwise from +x [default 0].
+    /// Current direction, degrees counter-clockwise from +x; 0 or 180 in 2d [default 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// Current speed, m/s [default 0.5].
@@ -81,7 +81,7 @@ pub struct Args {
     /// Acoustic model: hamilton or apl-uw [default hamilton].
     #[arg(long)]
     acoustics: Option<AcousticModel>,
-    /// Seed of the random stream [default 1].
+    /// Seed of the random stream, 0 to 2^53 [default 1].
     #[arg(long)]
     seed: Option<u64>,
     /// Steps at which to keep the elevation (comma-separated; default: 0 and the last step).
@@ -94,7 +94,8 @@ pub struct Args {
     /// Output format: netcdf or npy.
     #[arg(long, default_value = "netcdf")]
     format: Format,
-    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
+    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar). Without
+    /// it nothing is written: the run is measured only (see --json).
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// Print one JSON summary on stdout (no progress bar).
@@ -145,6 +146,11 @@ fn params(a: &Args) -> Result<RippleParams> {
         seed
     );
     if p.mode == Mode::TwoD {
+        if let Some(ny) = a.ny.filter(|&n| n != 1) {
+            bail!(
+                "ny = {ny} is out of range: expected 1 (or no --ny) in 2-D mode, a single section"
+            );
+        }
         p.ny = 1;
     }
     p.validate()?;
@@ -186,6 +192,10 @@ pub fn run(a: Args) -> Result<()> {
             "snapshots = {t} is out of range: expected steps in [0, steps = {}]",
             p.steps
         );
+    }
+
+    if let Some(out) = &a.out {
+        cellsurf::io::check_output("--out", out)?;
     }
 
     let start = Instant::now();

@@ -53,6 +53,17 @@ impl RippleFile {
     }
 }
 
+/// A short description of a NetCDF read error (the library's own carries byte dumps).
+pub fn describe(e: &netcdf3::ReadError) -> String {
+    use netcdf3::ReadError as E;
+    match e {
+        E::ParseHeader(_) => "not a NetCDF-3 file (its header cannot be read)".into(),
+        E::IOErrorKind(k) => std::io::Error::from(*k).to_string(),
+        E::VariableNotDefined(v) => format!("no variable '{v}'"),
+        other => crate::io::short(&format!("{other:?}")),
+    }
+}
+
 fn read_err(path: &Path, reason: impl std::fmt::Display) -> RippleError {
     RippleError::Input {
         path: path.display().to_string(),
@@ -62,7 +73,10 @@ fn read_err(path: &Path, reason: impl std::fmt::Display) -> RippleError {
 
 /// Reads a ripple NetCDF file. Errors name the file and what is missing or inconsistent.
 pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
-    let mut r = FileReader::open(path).map_err(|e| read_err(path, format!("{e:?}")))?;
+    if !path.is_file() {
+        return Err(read_err(path, "no such file"));
+    }
+    let mut r = FileReader::open(path).map_err(|e| read_err(path, describe(&e)))?;
     let ds = r.data_set();
     let dim = |name: &str| {
         ds.dim_size(name).ok_or_else(|| {
@@ -104,6 +118,12 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
         };
         table.insert(key, value);
     }
+    if table.is_empty() {
+        return Err(read_err(
+            path,
+            "the file records no run parameters (param_* attributes)",
+        ));
+    }
     let params: RippleParams = toml::Value::Table(table)
         .try_into()
         .map_err(|e| read_err(path, format!("parameters: {e}")))?;
@@ -118,10 +138,10 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
     if has_elevation {
         let ts = r
             .read_var_f32("time")
-            .map_err(|e| read_err(path, format!("time: {e:?}")))?;
+            .map_err(|e| read_err(path, format!("time: {}", describe(&e))))?;
         let all = r
             .read_var_f32("elevation")
-            .map_err(|e| read_err(path, format!("elevation: {e:?}")))?;
+            .map_err(|e| read_err(path, format!("elevation: {}", describe(&e))))?;
         if all.len() != ts.len() * nx * ny {
             return Err(read_err(path, "elevation has the wrong size"));
         }
@@ -132,7 +152,7 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
     for f in written {
         let mut v = r
             .read_var_f32(f.name())
-            .map_err(|e| read_err(path, format!("{}: {e:?}", f.name())))?;
+            .map_err(|e| read_err(path, format!("{}: {}", f.name(), describe(&e))))?;
         if v.len() != nz * ny * nx {
             return Err(read_err(path, format!("{} has the wrong size", f.name())));
         }

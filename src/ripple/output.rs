@@ -230,7 +230,14 @@ pub fn surface_field(r: &Ripple, field: Field) -> Vec<Option<f64>> {
 fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     RippleError::Output {
         path: path.display().to_string(),
-        reason: format!("{e:?}"),
+        reason: crate::io::short(&format!("{e:?}")),
+    }
+}
+
+fn io_err(path: &Path, e: std::io::Error) -> RippleError {
+    RippleError::Output {
+        path: path.display().to_string(),
+        reason: e.to_string(),
     }
 }
 
@@ -389,10 +396,11 @@ pub fn write_netcdf(
     ds.add_global_attr_f64("automata", vec![r.automata() as f64])
         .map_err(|x| out_err(path, x))?;
 
-    let tmp = crate::io::temp_path(path);
-    let result = (|| -> Result<(), RippleError> {
-        let file = fs::File::create(&tmp).map_err(|x| out_err(path, x))?;
-        let tmp_str = tmp.to_string_lossy().to_string();
+    crate::io::check_output("output", path).map_err(|x| io_err(path, x))?;
+    let tmp = crate::io::TempFile::new(path);
+    {
+        let file = fs::File::create(tmp.path()).map_err(|x| io_err(path, x))?;
+        let tmp_str = tmp.path().to_string_lossy().to_string();
         let mut w = FileWriter::open_seek_write(&tmp_str, Box::new(BufWriter::new(file)))
             .map_err(|x| out_err(path, x))?;
         w.set_def(&ds, Version::Offset64Bit, 0)
@@ -423,15 +431,11 @@ pub fn write_netcdf(
             }
         }
         w.close().map_err(|x| out_err(path, x))?;
-        fs::File::open(&tmp)
-            .and_then(|f| f.sync_all())
-            .map_err(|x| out_err(path, x))?;
-        fs::rename(&tmp, path).map_err(|x| out_err(path, x))
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
     }
-    result
+    fs::File::open(tmp.path())
+        .and_then(|f| f.sync_all())
+        .map_err(|x| io_err(path, x))?;
+    tmp.commit(path).map_err(|x| io_err(path, x))
 }
 
 /// The header of a little-endian f32 `.npy` (format 1.0, C order) of `shape`, padded so that
@@ -512,7 +516,7 @@ pub fn write_npy(
             (vec![nz, ny, nx], volume_field(r, f, f32::NAN))
         };
         let path = file(&format!("_{}.npy", f.name()));
-        crate::io::write_atomic(&path, &npy_bytes(&shape, &data)).map_err(|e| out_err(&path, e))?;
+        crate::io::write_atomic(&path, &npy_bytes(&shape, &data)).map_err(|e| io_err(&path, e))?;
         let (units, long) = f.meta();
         let dims = if f == Field::Elevation {
             "[\"time\", \"y\", \"x\"]"
@@ -551,7 +555,7 @@ pub fn write_npy(
         params.join(",\n")
     );
     let side = file(".json");
-    crate::io::write_atomic(&side, json.as_bytes()).map_err(|e| out_err(&side, e))?;
+    crate::io::write_atomic(&side, json.as_bytes()).map_err(|e| io_err(&side, e))?;
     written.push(side);
     Ok(written)
 }

@@ -112,7 +112,9 @@ pub struct RippleParams {
     pub activity: f64,
     /// Median grain size d50, mm, 0.01..=10. Default 0.2.
     pub d50: f64,
-    /// Sorting sigma_phi (standard deviation of phi = -log2(d / 1 mm)), 0..=4. Default 0.5.
+    /// Sorting sigma_phi (standard deviation of phi = -log2(d / 1 mm)), 0..=2 (2 is the upper
+    /// limit of "poorly sorted" in Folk & Ward; wider gives grains of metres and of microns in
+    /// the 4-sigma tails). Default 0.5.
     pub sorting: f64,
     /// Direction the current flows towards, degrees counter-clockwise from +x. Default 0.
     pub current_angle: f64,
@@ -129,7 +131,8 @@ pub struct RippleParams {
     pub stoss_angle: f64,
     /// Creep angle gamma (Eqs. 9-10), degrees, in [0, 90). Default 5.
     pub creep_angle: f64,
-    /// Seed of the random stream. Default 1.
+    /// Seed of the random stream, 0..=2^53 (so that every output file records it exactly).
+    /// Default 1.
     pub seed: u64,
     /// Initial roughness: each column's height is `layers` plus a uniform integer in
     /// `-roughness..=roughness` automata (then relaxed below alpha). Default 3.
@@ -263,6 +266,23 @@ impl RippleParams {
 
     /// Checks every parameter; the error names the parameter, its value and the valid range.
     pub fn validate(&self) -> Result<(), RippleError> {
+        if self.seed > 1 << 53 {
+            return Err(range(
+                "seed",
+                self.seed,
+                "an integer in [0, 2^53 = 9007199254740992] (recorded exactly in the output files)",
+            ));
+        }
+        if self.mode == Mode::TwoD {
+            let a = self.current_angle.rem_euclid(360.0);
+            if a != 0.0 && a != 180.0 {
+                return Err(range(
+                    "current_angle",
+                    self.current_angle,
+                    "0 (flow along +x) or 180 (along -x) in 2-D mode, whose section runs along the current",
+                ));
+            }
+        }
         if !(3..=1 << 16).contains(&self.nx) {
             return Err(range("nx", self.nx, "an integer in [3, 65536]"));
         }
@@ -311,7 +331,7 @@ impl RippleParams {
         }
         check_f("activity", self.activity, 0.0, 1.0, true, false)?;
         check_f("d50", self.d50, 0.01, 10.0, false, false)?;
-        check_f("sorting", self.sorting, 0.0, 4.0, false, false)?;
+        check_f("sorting", self.sorting, 0.0, 2.0, false, false)?;
         check_f(
             "current_angle",
             self.current_angle,

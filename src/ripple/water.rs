@@ -53,8 +53,13 @@ impl Flow {
             0.0
         };
         let v = p.current_speed + wave;
+        // 2-D: the section runs along the current, towards +x (0 deg) or -x (180 deg).
         let base = if two_d {
-            0.0
+            if p.current_angle.to_radians().cos() >= 0.0 {
+                0.0
+            } else {
+                PI
+            }
         } else {
             p.current_angle.to_radians()
         };
