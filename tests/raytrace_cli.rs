@@ -170,3 +170,43 @@ fn seafloor_from_a_ripple_file() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--seafloor"));
 }
+
+/// A flat floor at 20 m from 0 to 100 m, a vertex every metre.
+fn flat_csv(name: &str) -> PathBuf {
+    let p = tmp(name);
+    let text: String = (0..=100).map(|x| format!("{x},20\n")).collect();
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn fraction(extra: &[&str]) -> f64 {
+    let flat = flat_csv("flat_fan.csv");
+    let mut a = vec![
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--json",
+    ];
+    a.extend(extra);
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    v["insonified_fraction"].as_f64().unwrap()
+}
+
+#[test]
+fn straight_mode_honours_the_fan() {
+    // a horizontal fan from S at 10 m never reaches the floor at 20 m, in either mode
+    let flat0 = ["--angle-min", "0", "--angle-max", "0"];
+    assert_eq!(fraction(&flat0), 0.0);
+    assert_eq!(fraction(&[&flat0[..], &["--straight"]].concat()), 0.0);
+    // 80 to 90 degrees reach x = 0 and 1 m only (x = 2 m is at 78.7 degrees)
+    let steep = ["--angle-min", "80", "--angle-max", "90"];
+    let rays = fraction(&steep);
+    let straight = fraction(&[&steep[..], &["--straight"]].concat());
+    assert!((straight - 2.0 / 101.0).abs() < 1e-12, "{straight}");
+    assert_eq!(rays, straight);
+    // the default fan (1.5 to 25 degrees) lights x >= 10 / tan 25 = 21.4 m
+    let lit = fraction(&["--straight"]);
+    assert!((lit - 79.0 / 101.0).abs() < 1e-12, "{lit}");
+}

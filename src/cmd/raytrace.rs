@@ -16,7 +16,7 @@ use cellsurf::raytrace::export::{
     write_bty, write_floor_csv, write_insonification_csv, write_rays_csv,
 };
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
-use cellsurf::raytrace::shadow::{Light, straight_insonify};
+use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
     Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
     Tracer, VERSION, insonify,
@@ -115,7 +115,8 @@ pub struct Args {
     /// Most rays in all (initial fan and shadow-edge bisection).
     #[arg(long, default_value_t = 2_000_000)]
     max_rays: usize,
-    /// Straight-line (line-of-sight) visibility instead of refracted rays.
+    /// Straight-line (line-of-sight) visibility instead of refracted rays: the vertices in view
+    /// of S whose direction from S lies within the fan of launch angles.
     #[arg(long)]
     straight: bool,
     /// Insonification CSV: one row a floor vertex (lit, grazing angle, travel time, R0).
@@ -244,7 +245,7 @@ pub fn run(a: Args) -> Result<()> {
         fan.validate(&tracer)?;
         trace.validate()?;
         let c = prof.speed(a.source_depth);
-        straight_insonify(&fl, Light::Point(a.source_range, a.source_depth), c)
+        straight_insonify_fan(&fl, a.source_range, a.source_depth, amin, amax, c)
     } else {
         let o = InsonifyOptions {
             trace,
