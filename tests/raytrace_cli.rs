@@ -210,3 +210,39 @@ fn straight_mode_honours_the_fan() {
     let lit = fraction(&["--straight"]);
     assert!((lit - 79.0 / 101.0).abs() < 1e-12, "{lit}");
 }
+
+#[test]
+fn horizontal_ray_path_ends_at_the_section_end() {
+    let flat = flat_csv("flat_horizontal.csv");
+    let rays = tmp("horizontal_rays.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--angle-min",
+        "0",
+        "--angle-max",
+        "0",
+        "--rays",
+        "2",
+        "--quiet",
+        "--rays-csv",
+        rays.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&rays).unwrap();
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(last[2], 100.0, "x of the last point");
+    assert_eq!(last[3], 10.0, "depth of the last point");
+    assert!((last[4] - 100.0 / 1500.0).abs() < 1e-12, "tau {}", last[4]);
+    for l in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let x: f64 = l.split(',').nth(2).unwrap().parse().unwrap();
+        assert!((0.0..=100.0).contains(&x), "{l}");
+    }
+}
