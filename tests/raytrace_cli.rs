@@ -246,3 +246,16 @@ fn horizontal_ray_path_ends_at_the_section_end() {
         assert!((0.0..=100.0).contains(&x), "{l}");
     }
 }
+
+#[test]
+fn section_length_range_is_the_one_enforced() {
+    // the generated field has 5 mm bins: 2e7 samples are 1e5 m
+    let o = cellsurf(&["raytrace", "--length", "1e6"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("section length = 1000000") && e.contains("100000] m"),
+        "{e}"
+    );
+    assert!(!e.contains("samples = "), "{e}");
+}

@@ -94,7 +94,8 @@ pub struct Args {
     /// top-automaton impedance, cut like the generated field (--azimuth, --length).
     #[arg(long, value_name = "FILE.nc")]
     seafloor: Option<PathBuf>,
-    /// Length of the section through the generated ripple mosaic, m.
+    /// Length of the section through the generated ripple mosaic, m: at most 1e6 m and 2e7
+    /// bins of the surface (1e5 m at the generated field's 5 mm bins).
     #[arg(long, default_value_t = 60.0)]
     length: f64,
     /// Direction of the section through the ripple field, degrees from +x (the current).
