@@ -259,3 +259,27 @@ fn section_length_range_is_the_one_enforced() {
     );
     assert!(!e.contains("samples = "), "{e}");
 }
+
+#[test]
+fn a_missing_output_directory_fails_before_any_file() {
+    let flat = flat_csv("flat_outputs.csv");
+    let (ok, rays) = (tmp("partial_ok.csv"), tmp("partial_rays.csv"));
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--out",
+        ok.to_str().unwrap(),
+        "--rays-csv",
+        rays.to_str().unwrap(),
+        "--bty",
+        "/nonexistent/x.bty",
+    ]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--bty /nonexistent/x.bty") && e.contains("does not exist"),
+        "{e}"
+    );
+    assert!(!ok.exists() && !rays.exists(), "no partial set of files");
+}

@@ -12,9 +12,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 
-use cellsurf::raytrace::export::{
-    write_bty, write_floor_csv, write_insonification_csv, write_rays_csv,
-};
+use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
 use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
@@ -219,9 +217,47 @@ fn fan_angles(a: &Args) -> Result<(f64, f64)> {
     }
 }
 
+/// The output options given, as (option, path).
+fn outputs(a: &Args) -> Vec<(&'static str, &Path)> {
+    [
+        ("--out", &a.out),
+        ("--rays-csv", &a.rays_csv),
+        ("--bty", &a.bty),
+        ("--seafloor-csv-out", &a.seafloor_csv_out),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| p.as_deref().map(|p| (o, p)))
+    .collect()
+}
+
+/// Before any work: every output's directory exists, and no two outputs are the same file.
+fn check_outputs(a: &Args) -> Result<()> {
+    let outs = outputs(a);
+    for (i, &(opt, p)) in outs.iter().enumerate() {
+        if p.file_name().is_none() || p.is_dir() {
+            bail!("{opt} {}: not a file name", p.display());
+        }
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        if let Some(d) = dir
+            && !d.is_dir()
+        {
+            bail!(
+                "{opt} {}: the directory {} does not exist",
+                p.display(),
+                d.display()
+            );
+        }
+        if let Some(&(other, _)) = outs[..i].iter().find(|(_, q)| *q == p) {
+            bail!("{opt} {}: the same file as {other}", p.display());
+        }
+    }
+    Ok(())
+}
+
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
+    check_outputs(&a)?;
     let prof = profile(&a)?;
     let fl = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
@@ -293,10 +329,10 @@ pub fn run(a: Args) -> Result<()> {
             ),
         )),
     }
-    let mut written = Vec::new();
+    // every output is produced before any is written: an error leaves no partial set
+    let mut files: Vec<(PathBuf, String)> = Vec::new();
     if let Some(p) = &a.out {
-        write_insonification_csv(p, &fl, &prof, &ins, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), insonification_csv(&fl, &prof, &ins, &params)));
     }
     if let Some(p) = &a.rays_csv {
         let show = TraceOptions {
@@ -316,15 +352,18 @@ pub fn run(a: Args) -> Result<()> {
                 tracer.trace(x, z, ang, &show)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        write_rays_csv(p, &rays, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), rays_csv(&rays, &params)));
     }
     if let Some(p) = &a.bty {
-        write_bty(p, &fl, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), bty_text(&fl, &params)));
     }
     if let Some(p) = &a.seafloor_csv_out {
-        write_floor_csv(p, &fl, &params)?;
+        files.push((p.clone(), floor_csv(&fl, &params)));
+    }
+    let mut written = Vec::new();
+    for (p, text) in &files {
+        cellsurf::io::write_atomic(p, text.as_bytes())
+            .with_context(|| format!("writing {}", p.display()))?;
         written.push(p.clone());
     }
     let elapsed = start.elapsed().as_secs_f64();
