@@ -283,3 +283,81 @@ fn a_missing_output_directory_fails_before_any_file() {
     );
     assert!(!ok.exists() && !rays.exists(), "no partial set of files");
 }
+
+#[test]
+fn seafloor_from_a_tile_mosaic() {
+    let nc = tmp("mosaic.nc");
+    let ins = tmp("from_mosaic.csv");
+    let o = cellsurf(&[
+        "tile",
+        "--generate",
+        "--nx",
+        "32",
+        "--ny",
+        "16",
+        "--layers",
+        "10",
+        "--steps",
+        "50",
+        "--mosaic",
+        "2x2",
+        "--volume",
+        "impedance",
+        "--out",
+        nc.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        nc.to_str().unwrap(),
+        "--water-depth",
+        "3",
+        "--source-depth",
+        "2.5",
+        "--length",
+        "3",
+        "--json",
+        "--out",
+        ins.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        v["parameters"]["seafloor"]
+            .as_str()
+            .unwrap()
+            .contains("tile mosaic")
+    );
+    let f = v["insonified_fraction"].as_f64().unwrap();
+    assert!(f > 0.0 && f <= 1.0, "{f}");
+    // the top impedance of each column gives a finite R0 at every vertex
+    let text = std::fs::read_to_string(&ins).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), v["vertices"].as_u64().unwrap() as usize);
+    for r in rows {
+        let r0: f64 = r.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(r0 > 0.0 && r0 < 1.0, "{r}");
+    }
+}
+
+#[test]
+fn unreadable_seafloor_files_give_short_errors() {
+    let junk = tmp("junk.npy");
+    std::fs::write(&junk, vec![7u8; 4096]).unwrap();
+    let o = cellsurf(&["raytrace", "--seafloor", junk.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("not a NetCDF-3 file") && e.len() < 300, "{e}");
+    let missing = tmp("missing_short.nc");
+    let o = cellsurf(&["raytrace", "--seafloor", missing.to_str().unwrap()]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("No such file or directory") && !e.contains("Os {") && e.len() < 300,
+        "{e}"
+    );
+}

@@ -88,8 +88,10 @@ pub struct Args {
     /// of the generated ripple field.
     #[arg(long, value_name = "FILE", conflicts_with = "seafloor")]
     seafloor_csv: Option<PathBuf>,
-    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`): its last elevation and
-    /// top-automaton impedance, cut like the generated field (--azimuth, --length).
+    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`: its last elevation and
+    /// top-automaton impedance) or a mosaic (`cellsurf tile --out`: its elevation and, with
+    /// `--volume impedance`, the top impedance), cut like the generated field (--azimuth,
+    /// --length).
     #[arg(long, value_name = "FILE.nc")]
     seafloor: Option<PathBuf>,
     /// Length of the section through the generated ripple mosaic, m: at most 1e6 m and 2e7
@@ -177,19 +179,20 @@ fn profile(a: &Args) -> Result<SoundSpeed> {
     })
 }
 
-fn floor(a: &Args) -> Result<Seafloor> {
+/// The floor, and the kind of surface it was cut from.
+fn floor(a: &Args) -> Result<(Seafloor, &'static str)> {
     if let Some(p) = &a.seafloor_csv {
-        return Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
-            .with_context(|| format!("in --seafloor-csv {}", p.display()));
+        let f = Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
+            .with_context(|| format!("in --seafloor-csv {}", p.display()))?;
+        return Ok((f, "csv"));
     }
-    let surf = match &a.seafloor {
+    let (surf, kind) = match &a.seafloor {
         Some(p) => {
-            let f = cellsurf::ripple::input::read(p)
-                .with_context(|| format!("reading --seafloor {}", p.display()))?;
-            RippleSurface::from_file(&f)
-                .with_context(|| format!("in --seafloor {}", p.display()))?
+            let (s, k) =
+                cellsurf::raytrace::input::read_surface(p).context("reading --seafloor")?;
+            (s, k.name())
         }
-        None => RippleSurface::generated(a.seed)?,
+        None => (RippleSurface::generated(a.seed)?, "generated"),
     };
     let line = SectionLine::Line {
         x0: surf.bin / 2.0,
@@ -198,7 +201,7 @@ fn floor(a: &Args) -> Result<Seafloor> {
         length: a.length,
         spacing: surf.bin,
     };
-    Ok(surf.grid().section(line, a.water_depth, 0.0)?)
+    Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind))
 }
 
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
@@ -259,7 +262,7 @@ pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
     check_outputs(&a)?;
     let prof = profile(&a)?;
-    let fl = floor(&a)?;
+    let (fl, kind) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
     let (amin, amax) = fan_angles(&a)?;
     let (x0, x1) = fl.x_range();
@@ -314,7 +317,8 @@ pub fn run(a: Args) -> Result<()> {
         (None, Some(p)) => params.push((
             "seafloor".into(),
             format!(
-                "ripple file {}, section azimuth {} deg, length {} m, water depth {} m",
+                "{} {}, section azimuth {} deg, length {} m, water depth {} m",
+                kind,
                 p.display(),
                 a.azimuth,
                 a.length,
