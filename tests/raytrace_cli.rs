@@ -170,3 +170,194 @@ fn seafloor_from_a_ripple_file() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--seafloor"));
 }
+
+/// A flat floor at 20 m from 0 to 100 m, a vertex every metre.
+fn flat_csv(name: &str) -> PathBuf {
+    let p = tmp(name);
+    let text: String = (0..=100).map(|x| format!("{x},20\n")).collect();
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn fraction(extra: &[&str]) -> f64 {
+    let flat = flat_csv("flat_fan.csv");
+    let mut a = vec![
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--json",
+    ];
+    a.extend(extra);
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    v["insonified_fraction"].as_f64().unwrap()
+}
+
+#[test]
+fn straight_mode_honours_the_fan() {
+    // a horizontal fan from S at 10 m never reaches the floor at 20 m, in either mode
+    let flat0 = ["--angle-min", "0", "--angle-max", "0"];
+    assert_eq!(fraction(&flat0), 0.0);
+    assert_eq!(fraction(&[&flat0[..], &["--straight"]].concat()), 0.0);
+    // 80 to 90 degrees reach x = 0 and 1 m only (x = 2 m is at 78.7 degrees)
+    let steep = ["--angle-min", "80", "--angle-max", "90"];
+    let rays = fraction(&steep);
+    let straight = fraction(&[&steep[..], &["--straight"]].concat());
+    assert!((straight - 2.0 / 101.0).abs() < 1e-12, "{straight}");
+    assert_eq!(rays, straight);
+    // the default fan (1.5 to 25 degrees) lights x >= 10 / tan 25 = 21.4 m
+    let lit = fraction(&["--straight"]);
+    assert!((lit - 79.0 / 101.0).abs() < 1e-12, "{lit}");
+}
+
+#[test]
+fn horizontal_ray_path_ends_at_the_section_end() {
+    let flat = flat_csv("flat_horizontal.csv");
+    let rays = tmp("horizontal_rays.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--angle-min",
+        "0",
+        "--angle-max",
+        "0",
+        "--rays",
+        "2",
+        "--quiet",
+        "--rays-csv",
+        rays.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&rays).unwrap();
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(last[2], 100.0, "x of the last point");
+    assert_eq!(last[3], 10.0, "depth of the last point");
+    assert!((last[4] - 100.0 / 1500.0).abs() < 1e-12, "tau {}", last[4]);
+    for l in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let x: f64 = l.split(',').nth(2).unwrap().parse().unwrap();
+        assert!((0.0..=100.0).contains(&x), "{l}");
+    }
+}
+
+#[test]
+fn section_length_range_is_the_one_enforced() {
+    // the generated field has 5 mm bins: 2e7 samples are 1e5 m
+    let o = cellsurf(&["raytrace", "--length", "1e6"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("section length = 1000000") && e.contains("100000] m"),
+        "{e}"
+    );
+    assert!(!e.contains("samples = "), "{e}");
+}
+
+#[test]
+fn a_missing_output_directory_fails_before_any_file() {
+    let flat = flat_csv("flat_outputs.csv");
+    let (ok, rays) = (tmp("partial_ok.csv"), tmp("partial_rays.csv"));
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--out",
+        ok.to_str().unwrap(),
+        "--rays-csv",
+        rays.to_str().unwrap(),
+        "--bty",
+        "/nonexistent/x.bty",
+    ]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--bty /nonexistent/x.bty") && e.contains("does not exist"),
+        "{e}"
+    );
+    assert!(!ok.exists() && !rays.exists(), "no partial set of files");
+}
+
+#[test]
+fn seafloor_from_a_tile_mosaic() {
+    let nc = tmp("mosaic.nc");
+    let ins = tmp("from_mosaic.csv");
+    let o = cellsurf(&[
+        "tile",
+        "--generate",
+        "--nx",
+        "32",
+        "--ny",
+        "16",
+        "--layers",
+        "10",
+        "--steps",
+        "50",
+        "--mosaic",
+        "2x2",
+        "--volume",
+        "impedance",
+        "--out",
+        nc.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        nc.to_str().unwrap(),
+        "--water-depth",
+        "3",
+        "--source-depth",
+        "2.5",
+        "--length",
+        "3",
+        "--json",
+        "--out",
+        ins.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(
+        v["parameters"]["seafloor"]
+            .as_str()
+            .unwrap()
+            .contains("tile mosaic")
+    );
+    let f = v["insonified_fraction"].as_f64().unwrap();
+    assert!(f > 0.0 && f <= 1.0, "{f}");
+    // the top impedance of each column gives a finite R0 at every vertex
+    let text = std::fs::read_to_string(&ins).unwrap();
+    let rows: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    assert_eq!(rows.len(), v["vertices"].as_u64().unwrap() as usize);
+    for r in rows {
+        let r0: f64 = r.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(r0 > 0.0 && r0 < 1.0, "{r}");
+    }
+}
+
+#[test]
+fn unreadable_seafloor_files_give_short_errors() {
+    let junk = tmp("junk.npy");
+    std::fs::write(&junk, vec![7u8; 4096]).unwrap();
+    let o = cellsurf(&["raytrace", "--seafloor", junk.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("not a NetCDF-3 file") && e.len() < 300, "{e}");
+    let missing = tmp("missing_short.nc");
+    let o = cellsurf(&["raytrace", "--seafloor", missing.to_str().unwrap()]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("No such file or directory") && !e.contains("Os {") && e.len() < 300,
+        "{e}"
+    );
+}

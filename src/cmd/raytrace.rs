@@ -12,11 +12,9 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 
-use cellsurf::raytrace::export::{
-    write_bty, write_floor_csv, write_insonification_csv, write_rays_csv,
-};
+use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
-use cellsurf::raytrace::shadow::{Light, straight_insonify};
+use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
     Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
     Tracer, VERSION, insonify,
@@ -90,11 +88,14 @@ pub struct Args {
     /// of the generated ripple field.
     #[arg(long, value_name = "FILE", conflicts_with = "seafloor")]
     seafloor_csv: Option<PathBuf>,
-    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`): its last elevation and
-    /// top-automaton impedance, cut like the generated field (--azimuth, --length).
+    /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`: its last elevation and
+    /// top-automaton impedance) or a mosaic (`cellsurf tile --out`: its elevation and, with
+    /// `--volume impedance`, the top impedance), cut like the generated field (--azimuth,
+    /// --length).
     #[arg(long, value_name = "FILE.nc")]
     seafloor: Option<PathBuf>,
-    /// Length of the section through the generated ripple mosaic, m.
+    /// Length of the section through the generated ripple mosaic, m: at most 1e6 m and 2e7
+    /// bins of the surface (1e5 m at the generated field's 5 mm bins).
     #[arg(long, default_value_t = 60.0)]
     length: f64,
     /// Direction of the section through the ripple field, degrees from +x (the current).
@@ -115,7 +116,8 @@ pub struct Args {
     /// Most rays in all (initial fan and shadow-edge bisection).
     #[arg(long, default_value_t = 2_000_000)]
     max_rays: usize,
-    /// Straight-line (line-of-sight) visibility instead of refracted rays.
+    /// Straight-line (line-of-sight) visibility instead of refracted rays: the vertices in view
+    /// of S whose direction from S lies within the fan of launch angles.
     #[arg(long)]
     straight: bool,
     /// Insonification CSV: one row a floor vertex (lit, grazing angle, travel time, R0).
@@ -177,19 +179,20 @@ fn profile(a: &Args) -> Result<SoundSpeed> {
     })
 }
 
-fn floor(a: &Args) -> Result<Seafloor> {
+/// The floor, and the kind of surface it was cut from.
+fn floor(a: &Args) -> Result<(Seafloor, &'static str)> {
     if let Some(p) = &a.seafloor_csv {
-        return Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
-            .with_context(|| format!("in --seafloor-csv {}", p.display()));
+        let f = Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
+            .with_context(|| format!("in --seafloor-csv {}", p.display()))?;
+        return Ok((f, "csv"));
     }
-    let surf = match &a.seafloor {
+    let (surf, kind) = match &a.seafloor {
         Some(p) => {
-            let f = cellsurf::ripple::input::read(p)
-                .with_context(|| format!("reading --seafloor {}", p.display()))?;
-            RippleSurface::from_file(&f)
-                .with_context(|| format!("in --seafloor {}", p.display()))?
+            let (s, k) =
+                cellsurf::raytrace::input::read_surface(p).context("reading --seafloor")?;
+            (s, k.name())
         }
-        None => RippleSurface::generated(a.seed)?,
+        None => (RippleSurface::generated(a.seed)?, "generated"),
     };
     let line = SectionLine::Line {
         x0: surf.bin / 2.0,
@@ -198,7 +201,7 @@ fn floor(a: &Args) -> Result<Seafloor> {
         length: a.length,
         spacing: surf.bin,
     };
-    Ok(surf.grid().section(line, a.water_depth, 0.0)?)
+    Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind))
 }
 
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
@@ -217,11 +220,49 @@ fn fan_angles(a: &Args) -> Result<(f64, f64)> {
     }
 }
 
+/// The output options given, as (option, path).
+fn outputs(a: &Args) -> Vec<(&'static str, &Path)> {
+    [
+        ("--out", &a.out),
+        ("--rays-csv", &a.rays_csv),
+        ("--bty", &a.bty),
+        ("--seafloor-csv-out", &a.seafloor_csv_out),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| p.as_deref().map(|p| (o, p)))
+    .collect()
+}
+
+/// Before any work: every output's directory exists, and no two outputs are the same file.
+fn check_outputs(a: &Args) -> Result<()> {
+    let outs = outputs(a);
+    for (i, &(opt, p)) in outs.iter().enumerate() {
+        if p.file_name().is_none() || p.is_dir() {
+            bail!("{opt} {}: not a file name", p.display());
+        }
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+        if let Some(d) = dir
+            && !d.is_dir()
+        {
+            bail!(
+                "{opt} {}: the directory {} does not exist",
+                p.display(),
+                d.display()
+            );
+        }
+        if let Some(&(other, _)) = outs[..i].iter().find(|(_, q)| *q == p) {
+            bail!("{opt} {}: the same file as {other}", p.display());
+        }
+    }
+    Ok(())
+}
+
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
+    check_outputs(&a)?;
     let prof = profile(&a)?;
-    let fl = floor(&a)?;
+    let (fl, kind) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
     let (amin, amax) = fan_angles(&a)?;
     let (x0, x1) = fl.x_range();
@@ -244,7 +285,7 @@ pub fn run(a: Args) -> Result<()> {
         fan.validate(&tracer)?;
         trace.validate()?;
         let c = prof.speed(a.source_depth);
-        straight_insonify(&fl, Light::Point(a.source_range, a.source_depth), c)
+        straight_insonify_fan(&fl, a.source_range, a.source_depth, amin, amax, c)
     } else {
         let o = InsonifyOptions {
             trace,
@@ -276,7 +317,8 @@ pub fn run(a: Args) -> Result<()> {
         (None, Some(p)) => params.push((
             "seafloor".into(),
             format!(
-                "ripple file {}, section azimuth {} deg, length {} m, water depth {} m",
+                "{} {}, section azimuth {} deg, length {} m, water depth {} m",
+                kind,
                 p.display(),
                 a.azimuth,
                 a.length,
@@ -291,10 +333,10 @@ pub fn run(a: Args) -> Result<()> {
             ),
         )),
     }
-    let mut written = Vec::new();
+    // every output is produced before any is written: an error leaves no partial set
+    let mut files: Vec<(PathBuf, String)> = Vec::new();
     if let Some(p) = &a.out {
-        write_insonification_csv(p, &fl, &prof, &ins, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), insonification_csv(&fl, &prof, &ins, &params)));
     }
     if let Some(p) = &a.rays_csv {
         let show = TraceOptions {
@@ -314,15 +356,18 @@ pub fn run(a: Args) -> Result<()> {
                 tracer.trace(x, z, ang, &show)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        write_rays_csv(p, &rays, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), rays_csv(&rays, &params)));
     }
     if let Some(p) = &a.bty {
-        write_bty(p, &fl, &params)?;
-        written.push(p.clone());
+        files.push((p.clone(), bty_text(&fl, &params)));
     }
     if let Some(p) = &a.seafloor_csv_out {
-        write_floor_csv(p, &fl, &params)?;
+        files.push((p.clone(), floor_csv(&fl, &params)));
+    }
+    let mut written = Vec::new();
+    for (p, text) in &files {
+        cellsurf::io::write_atomic(p, text.as_bytes())
+            .with_context(|| format!("writing {}", p.display()))?;
         written.push(p.clone());
     }
     let elapsed = start.elapsed().as_secs_f64();

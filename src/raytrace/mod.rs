@@ -11,7 +11,7 @@
 //!   [`Table`], or Mackenzie's (1981) equation from temperature and salinity tables.
 //! - [`Seafloor`] ([`seafloor`]): a polyline z_b(x) (vertical cliffs allowed) with an optional
 //!   impedance per vertex; [`SectionLine`] extracts a section through a periodic elevation grid
-//!   (a ripple volume or a mosaic of its tiles).
+//!   (a ripple volume or a mosaic of its tiles); [`input::read_surface`] reads either file.
 //! - [`Tracer`] ([`ray`]): classical fourth-order Runge-Kutta on the BELLHOP ray equations in
 //!   arc length, exact reflection t' = t - 2 (t.n) n at the surface and at the floor; each
 //!   [`Ray`] reports its reflections, why it ended and its Snell-invariant drift.
@@ -29,6 +29,7 @@
 pub mod export;
 #[cfg(feature = "plot")]
 pub mod figures;
+pub mod input;
 pub mod profile;
 pub mod ray;
 pub mod rough;

@@ -495,6 +495,7 @@ impl<'a> Tracer<'a> {
             let (q, seg, n) = match landed {
                 Some(Landing::Hit(q, seg, n)) => (q, seg, n),
                 other => {
+                    let prev = p;
                     p = match other {
                         Some(Landing::Pass(q, n)) => {
                             ray.steps += n;
@@ -502,11 +503,25 @@ impl<'a> Tracer<'a> {
                         }
                         _ => q,
                     };
+                    ray.max_snell_drift = ray.max_snell_drift.max(self.drift(tx, &p, leg_norm));
+                    let left = p.x < xa || p.x > xb;
+                    if left {
+                        // the last step ends at the section's end (linear along the chord)
+                        let edge = if p.x > xb { xb } else { xa };
+                        let f = ((edge - prev.x) / (p.x - prev.x)).clamp(0.0, 1.0);
+                        let l = |a: f64, b: f64| a + f * (b - a);
+                        p = State {
+                            x: edge,
+                            z: l(prev.z, p.z),
+                            tz: l(prev.tz, p.tz),
+                            tau: l(prev.tau, p.tau),
+                            s: l(prev.s, p.s),
+                        };
+                    }
                     if o.record {
                         ray.path.push([p.x, p.z, p.tau]);
                     }
-                    ray.max_snell_drift = ray.max_snell_drift.max(self.drift(tx, &p, leg_norm));
-                    if p.x < xa || p.x > xb {
+                    if left {
                         ray.end = RayEnd::LeftFloor;
                         break;
                     }

@@ -15,6 +15,9 @@ use super::{RaytraceError, check_range, range_err};
 /// Segments per culling block.
 const BLOCK: usize = 32;
 
+/// Most samples of a [`SectionLine::Line`] section.
+pub const MAX_SECTION_SAMPLES: usize = 20_000_000;
+
 /// A seafloor polyline.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Seafloor {
@@ -458,9 +461,17 @@ impl Grid<'_> {
                 check_range("section y0", y0, -1e7, 1e7, "m")?;
                 check_range("section azimuth", azimuth_deg, -360.0, 360.0, "degrees")?;
                 check_range("section spacing", spacing, 1e-6, 1e4, "m")?;
-                check_range("section length", length, spacing, 1e6, "m")?;
+                // at most 1e6 m and 2e7 samples: the stated range is the one enforced
+                let max_length = (MAX_SECTION_SAMPLES as f64 * spacing).min(1e6);
+                check_range(
+                    "section length",
+                    length,
+                    spacing,
+                    max_length,
+                    &format!("m (at most 1e6 m and 2e7 samples of {spacing} m)"),
+                )?;
                 let n = (length / spacing).floor() as usize;
-                if n > 20_000_000 {
+                if n > MAX_SECTION_SAMPLES {
                     return Err(range_err(
                         "section length / spacing",
                         n,

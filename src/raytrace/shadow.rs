@@ -512,6 +512,28 @@ pub fn straight_insonify(floor: &Seafloor, light: Light, c: f64) -> Insonificati
     }
 }
 
+/// [`straight_insonify`] from a point S at (`x`, `z`) limited to a fan of launch angles: only
+/// the vertices whose direction from S (degrees below the horizontal, the launch angle of
+/// [`Fan::Point`], so towards +x or straight down) lies in [`min_deg`, `max_deg`] can be
+/// insonified; the others are in shadow as the fan's rays never point at them.
+pub fn straight_insonify_fan(
+    floor: &Seafloor,
+    x: f64,
+    z: f64,
+    min_deg: f64,
+    max_deg: f64,
+    c: f64,
+) -> Insonification {
+    let mut ins = straight_insonify(floor, Light::Point(x, z), c);
+    const TOL_DEG: f64 = 1e-9;
+    for a in &mut ins.arrivals {
+        if a.is_some_and(|a| a.launch_deg < min_deg - TOL_DEG || a.launch_deg > max_deg + TOL_DEG) {
+            *a = None;
+        }
+    }
+    ins
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
