@@ -117,6 +117,23 @@ fn bad_input_is_named() {
             &["--volume", "impedance", "--dunes"][..],
             "--volume with --dunes",
         ),
+        (
+            &["--current-angle", "NaN"][..],
+            "--current-angle = NaN is out of range",
+        ),
+        (
+            &["--dunes", "--current-angle", "NaN"][..],
+            "--current-angle = NaN is out of range",
+        ),
+        (
+            &["--dunes", "--dune-grid", "100000"][..],
+            "dune_grid = 100000 is out of range: expected 2 ..= 72 nodes",
+        ),
+        (&["--hurst", "0.5"][..], "--dunes"),
+        (&["--dune-rms", "0.1"][..], "--dunes"),
+        (&["--dune-wavelength", "0.5"][..], "--dunes"),
+        (&["--steering", "1"][..], "--dunes"),
+        (&["--dune-grid", "16"][..], "--dunes"),
     ] {
         let mut a = GEN.to_vec();
         a.extend(extra);
@@ -128,4 +145,23 @@ fn bad_input_is_named() {
     }
     let o = cellsurf(&["tile"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("no tiles"));
+}
+
+#[test]
+fn current_angle_on_file_tiles_needs_dunes() {
+    // tiles read from a file keep their current: without --dunes the angle would do nothing
+    let r = tmp("angle-r.nc");
+    let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+    g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
+    assert!(cellsurf(&g).status.success());
+    let base = ["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+    let mut a = base.to_vec();
+    a.extend(["--current-angle", "45"]);
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "accepted: {err}");
+    assert!(err.contains("--current-angle = 45 needs --dunes"), "{err}");
+    a.extend(["--dunes", "--dune-grid", "24", "--json"]);
+    let v = json(&cellsurf(&a));
+    assert_eq!(v["dunes"]["current_angle_deg"], 45.0);
 }

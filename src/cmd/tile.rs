@@ -78,23 +78,25 @@ pub struct Args {
     #[arg(long)]
     dunes: bool,
     /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
-    #[arg(long, default_value_t = 0.6)]
+    #[arg(long, default_value_t = 0.6, requires = "dunes")]
     hurst: f64,
     /// --dunes: rms dune height, m.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, requires = "dunes")]
     dune_rms: f64,
     /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
-    #[arg(long)]
+    #[arg(long, requires = "dunes")]
     dune_wavelength: Option<f64>,
-    /// Current direction, degrees from +x [default: the tiles' current; --generate runs use it].
+    /// Current direction, degrees from +x, for --dunes (the ripple pattern is turned to it) and
+    /// for the --generate runs [default: the tiles' current]; with neither it is an error.
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// --dunes: steering of the current by the dune slope (u = e - steering grad D).
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, requires = "dunes")]
     steering: f64,
-    /// --dunes: dune-grid nodes per side (at most the surface's bins).
-    #[arg(long, default_value_t = 256)]
-    dune_grid: usize,
+    /// --dunes: dune-grid nodes per side, 2 ..= the surface's bins along its longer side (a
+    /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
+    #[arg(long, requires = "dunes")]
+    dune_grid: Option<usize>,
     /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
@@ -255,6 +257,16 @@ pub fn run(a: Args) -> Result<()> {
             "--volume = elevation is out of range: expected a volume field (grain_size, porosity, density, sound_speed, impedance)"
         );
     }
+    if let Some(c) = a.current_angle {
+        if !a.dunes && !a.generate {
+            bail!(
+                "--current-angle = {c} needs --dunes (it turns the ripple pattern on the dunes) or --generate (the current of the ripple runs); tiles from --tile files keep their own current"
+            );
+        }
+        if !c.is_finite() {
+            bail!("--current-angle = {c} is out of range: expected a finite angle in degrees");
+        }
+    }
     if a.mosaic.is_some() && a.extent.is_some() {
         bail!("--mosaic and --extent both given: expected one of them");
     }
@@ -286,10 +298,12 @@ pub fn run(a: Args) -> Result<()> {
         },
         None => Relief::Fbm { hurst: a.hurst },
     };
+    let (mw, mh) = mosaic.size();
+    let dune_grid = a.dune_grid.unwrap_or_else(|| 256.min(mw.max(mh)));
     let dune_params = DuneParams {
         relief,
         rms: a.dune_rms,
-        grid: a.dune_grid,
+        grid: dune_grid,
         current_angle: a.current_angle.unwrap_or(tile_angle),
         steering: a.steering,
         seed: a.seed,
@@ -320,7 +334,7 @@ pub fn run(a: Args) -> Result<()> {
         dune_wavelength: a.dune_wavelength.unwrap_or(0.0),
         current_angle: dune_params.current_angle,
         steering: a.steering,
-        dune_grid: a.dune_grid,
+        dune_grid,
     };
     let spec = StreamSpec {
         format,

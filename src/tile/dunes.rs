@@ -35,7 +35,8 @@ pub struct DuneParams {
     pub relief: Relief,
     /// Rms dune height, m.
     pub rms: f64,
-    /// Dune-grid nodes along each side (at most the mosaic's bins along it).
+    /// Dune-grid nodes along each side: 2 ..= the mosaic's bins along its longer side (a shorter
+    /// side gets at most its own bins).
     pub grid: usize,
     /// Current direction theta0, degrees counter-clockwise from +x.
     pub current_angle: f64,
@@ -63,8 +64,15 @@ impl RippledDunes {
     /// Ripples from `mosaic` on dunes of `p` spanning the whole mosaic.
     pub fn new(mosaic: Mosaic, p: &DuneParams) -> Result<RippledDunes, TileError> {
         let (w, h) = mosaic.size();
-        if p.grid < 2 {
-            return Err(TileError::range("dune_grid", p.grid, ">= 2 nodes"));
+        if p.grid < 2 || p.grid > w.max(h) {
+            return Err(TileError::range(
+                "dune_grid",
+                p.grid,
+                format!(
+                    "2 ..= {} nodes (the surface's bins along its longer side)",
+                    w.max(h)
+                ),
+            ));
         }
         if !(p.steering.is_finite() && p.steering >= 0.0) {
             return Err(TileError::range("steering", p.steering, ">= 0"));
