@@ -165,3 +165,37 @@ fn current_angle_on_file_tiles_needs_dunes() {
     let v = json(&cellsurf(&a));
     assert_eq!(v["dunes"]["current_angle_deg"], 45.0);
 }
+
+#[test]
+fn dune_slopes_are_reported_and_steep_dunes_warned() {
+    let mut a = GEN.to_vec();
+    a.extend(["--dunes", "--dune-grid", "32", "--json"]);
+    // default rms: an rms dune slope of 6 deg, well below the angle of repose
+    let o = cellsurf(&a);
+    let v = json(&o);
+    let d = &v["dunes"];
+    assert!(
+        (d["rms_dune_slope_deg"].as_f64().unwrap() - 6.0).abs() < 1e-6,
+        "{d}"
+    );
+    assert!(d["max_dune_slope_deg"].as_f64().unwrap() < 32.0, "{d}");
+    assert_eq!(d["dune_slope_above_repose_fraction"], 0.0);
+    assert!(v["surface_slope"]["max_deg"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+    // 0.3 m rms on a 0.36 m x 0.18 m surface: far steeper than sand can stand
+    a.extend(["--dune-rms", "0.3"]);
+    let o = cellsurf(&a);
+    let v = json(&o);
+    assert!(v["dunes"]["max_dune_slope_deg"].as_f64().unwrap() > 32.0);
+    assert!(
+        v["dunes"]["dune_slope_above_repose_fraction"]
+            .as_f64()
+            .unwrap()
+            > 0.5
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("warning: the dune relief is steeper than sand can stand"),
+        "{err}"
+    );
+}

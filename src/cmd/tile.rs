@@ -17,8 +17,8 @@ use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::{
-    Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter, SeamStats,
-    StreamFormat, StreamSpec, Tile,
+    ANGLE_OF_REPOSE_DEG, Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter,
+    SeamStats, StreamFormat, StreamSpec, Tile,
 };
 
 /// Options of `cellsurf tile`.
@@ -80,9 +80,12 @@ pub struct Args {
     /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
     #[arg(long, default_value_t = 0.6, requires = "dunes")]
     hurst: f64,
-    /// --dunes: rms dune height, m.
-    #[arg(long, default_value_t = 0.5, requires = "dunes")]
-    dune_rms: f64,
+    /// --dunes: rms dune height, m [default: the height that gives the dune field an rms slope
+    /// of 6 deg at its grid, so it scales with the extent (e.g. 47 mm on 20 x 20 m with the
+    /// default grid, H 0.6); its largest slope is then about 20 deg, below the angle of repose, 32 deg].
+    /// The slopes are measured and reported; steeper dunes than 32 deg get a warning.
+    #[arg(long, requires = "dunes")]
+    dune_rms: Option<f64>,
     /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
     #[arg(long, requires = "dunes")]
     dune_wavelength: Option<f64>,
@@ -300,15 +303,18 @@ pub fn run(a: Args) -> Result<()> {
     };
     let (mw, mh) = mosaic.size();
     let dune_grid = a.dune_grid.unwrap_or_else(|| 256.min(mw.max(mh)));
-    let dune_params = DuneParams {
+    let mut dune_params = DuneParams {
         relief,
-        rms: a.dune_rms,
+        rms: a.dune_rms.unwrap_or(0.0),
         grid: dune_grid,
         current_angle: a.current_angle.unwrap_or(tile_angle),
         steering: a.steering,
         seed: a.seed,
     };
     let dunes = if a.dunes {
+        if a.dune_rms.is_none() {
+            dune_params.rms = RippledDunes::default_rms(&mosaic, &dune_params)?;
+        }
         Some(RippledDunes::new(mosaic.clone(), &dune_params)?)
     } else {
         None
@@ -330,7 +336,7 @@ pub fn run(a: Args) -> Result<()> {
         volume: a.volume.map(|f| f.name()).unwrap_or("none").into(),
         dunes: a.dunes,
         hurst: a.hurst,
-        dune_rms: a.dune_rms,
+        dune_rms: dune_params.rms,
         dune_wavelength: a.dune_wavelength.unwrap_or(0.0),
         current_angle: dune_params.current_angle,
         steering: a.steering,
@@ -365,10 +371,25 @@ pub fn run(a: Args) -> Result<()> {
             None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
         }
     }
-    let (dune_slope, dune_rms) = match &dunes {
-        Some(d) => (measured_slope(d.dunes()), Some(d.dunes().rms())),
-        None => (None, None),
+    let (dune_slope, dune_rms, dune_slopes) = match &dunes {
+        Some(d) => (
+            measured_slope(d.dunes()),
+            Some(d.dunes().rms()),
+            Some(d.dunes().slope_stats()),
+        ),
+        None => (None, None, None),
     };
+    if let Some(s) = dune_slopes
+        && s.max_deg > ANGLE_OF_REPOSE_DEG
+    {
+        eprintln!(
+            "warning: the dune relief is steeper than sand can stand: largest dune slope {:.1} deg, {:.1} % of the dune grid above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg), rms slope {:.1} deg (rms height {:.3} m); lower --dune-rms (or leave it out for the default)",
+            s.max_deg,
+            100.0 * s.above_repose,
+            s.rms_deg,
+            dune_params.rms
+        );
+    }
     let summary = |seams: Option<&SeamStats>, bytes: u64, files: &[PathBuf], elapsed: f64| {
         serde_json::json!({
             "cellsurf_version": VERSION,
@@ -396,6 +417,16 @@ pub fn run(a: Args) -> Result<()> {
                 "dune_wavelength_m": a.dune_wavelength,
                 "rms_m": opt(dune_rms),
                 "current_angle_deg": dune_params.current_angle,
+                "max_dune_slope_deg": dune_slopes.map(|s| s.max_deg),
+                "rms_dune_slope_deg": dune_slopes.map(|s| s.rms_deg),
+                "dune_slope_above_repose_fraction": dune_slopes.map(|s| s.above_repose),
+                "angle_of_repose_deg": ANGLE_OF_REPOSE_DEG,
+            })),
+            "surface_slope": seams.and_then(|s| s.slope).map(|s| serde_json::json!({
+                "max_deg": s.max_deg,
+                "rms_deg": s.rms_deg,
+                "above_repose_fraction": s.above_repose,
+                "angle_of_repose_deg": ANGLE_OF_REPOSE_DEG,
             })),
         })
     };
@@ -419,7 +450,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         None => {
             let (tnx, tny) = src.tile_size();
-            let mut m = SeamMeter::new(w, tnx, tny);
+            let mut m = SeamMeter::new(w, tnx, tny).with_slopes(dx);
             let mut row = vec![0.0f32; w];
             for y in 0..h {
                 src.fill_row(y, &mut row);
@@ -449,6 +480,22 @@ pub fn run(a: Args) -> Result<()> {
             f(seams.y.across),
             r(seams.y.ratio())
         );
+        if let Some(s) = seams.slope {
+            eprintln!(
+                "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            );
+        }
+        if let Some(s) = dune_slopes {
+            eprintln!(
+                "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            );
+        }
         if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
             eprintln!(
                 "dune spectrum slope {s:.2} (requested {:.2})",

@@ -216,7 +216,7 @@ pub fn write_stream(
     check_source(src, nz)?;
     let start = Instant::now();
     let (tnx, tny) = src.tile_size();
-    let mut meter = SeamMeter::new(src.width(), tnx, tny);
+    let mut meter = SeamMeter::new(src.width(), tnx, tny).with_slopes(src.bin_size());
     let files = match spec.format {
         StreamFormat::NetCdf => {
             write_netcdf_stream(path, src, spec, nz, &mut meter, progress)?;
