@@ -182,6 +182,19 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
     assert_eq!(d["dune_slope_above_repose_fraction"], 0.0);
     assert!(v["surface_slope"]["max_deg"].as_f64().unwrap() > 0.0, "{v}");
     assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+    // the elevation is not a height above the substrate any more: its long name says so
+    let stem = tmp("dunes.npy");
+    let mut b = a.clone();
+    b.extend(["--format", "npy", "--out", stem.to_str().unwrap()]);
+    json(&cellsurf(&b));
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).unwrap())
+            .unwrap();
+    let long = side["fields"]["elevation"]["long_name"].as_str().unwrap();
+    assert!(
+        long.contains("plus the dune relief about the mean dune level"),
+        "{long}"
+    );
     // 0.3 m rms on a 0.36 m x 0.18 m surface: far steeper than sand can stand
     a.extend(["--dune-rms", "0.3"]);
     let o = cellsurf(&a);

@@ -351,6 +351,9 @@ pub fn run(a: Args) -> Result<()> {
             "Mosaic of toroidal sand-ripple tiles (cellsurf)".into()
         },
         params: toml_pairs(&recorded),
+        elevation_long_name: a.dunes.then(|| {
+            "ripple bed height above the non-erodible substrate plus the dune relief about the mean dune level (zero-mean fractal dunes: negative in the dune troughs)".into()
+        }),
     };
     if a.volume.is_some() && src.levels() == 0 {
         bail!("--volume: the tiles carry no volume levels");
