@@ -1,7 +1,7 @@
 //! `cellsurf tile`: builds a large surface as a mosaic of toroidal ripple tiles
 //! ([`cellsurf::tile`]), from ripple NetCDF files (`--tile`, repeatable) and/or tiles generated
 //! in-process (`--generate`), optionally with fractal rippled dunes (`--dunes`), and streams it
-//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams.
+//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams and slopes.
 //! `--dry-run` prints the size and the disk space the output would take, and stops.
 
 use std::path::PathBuf;
@@ -34,22 +34,23 @@ pub struct Args {
     /// Ripple scene (TOML) for --generate [default: the ripple defaults].
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// --generate: columns along x of a tile.
+    /// --generate: columns along x of a tile [default: the scene's, else 128].
     #[arg(long)]
     nx: Option<usize>,
-    /// --generate: columns along y of a tile.
+    /// --generate: columns along y of a tile [default: the scene's, else 64].
     #[arg(long)]
     ny: Option<usize>,
-    /// --generate: mean sand thickness, automata per column.
+    /// --generate: mean sand thickness, automata per column [default: the scene's, else 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// --generate: steps of each run (at least the largest --snapshots step).
+    /// --generate: steps of each run, raised to the largest --snapshots step [default: the
+    /// scene's, else 10000].
     #[arg(long)]
     steps: Option<u64>,
-    /// --generate: fraction of automata triggered per step.
+    /// --generate: fraction of automata triggered per step [default: the scene's, else 0.001].
     #[arg(long)]
     activity: Option<f64>,
-    /// --generate: bin size, m.
+    /// --generate: bin size, m [default: the scene's, else 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
@@ -93,14 +94,17 @@ pub struct Args {
     /// for the --generate runs [default: the tiles' current]; with neither it is an error.
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
-    /// --dunes: steering of the current by the dune slope (u = e - steering grad D).
+    /// --dunes: steering of the current by the dune slope, dimensionless: u = e - steering grad D,
+    /// e the unit vector of --current-angle and grad D the dune slope in m/m.
     #[arg(long, default_value_t = 3.0, requires = "dunes")]
     steering: f64,
     /// --dunes: dune-grid nodes per side, 2 ..= the surface's bins along its longer side (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
     #[arg(long, requires = "dunes")]
     dune_grid: Option<usize>,
-    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
+    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar). Without
+    /// --out nothing is written: the rows are computed and only the seams and slopes measured
+    /// (--dry-run still prints the disk space the --format would take).
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// Output format: netcdf or npy.
@@ -370,6 +374,11 @@ pub fn run(a: Args) -> Result<()> {
                 "tile: {size_line}; writing about {} to {}",
                 human(estimate),
                 out.display()
+            ),
+            None if a.dry_run => eprintln!(
+                "tile: {size_line}; would take about {} as {} (no --out given)",
+                human(estimate),
+                a.format
             ),
             None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
         }
