@@ -1,8 +1,8 @@
 //! `cellsurf tile`: builds a large surface as a mosaic of toroidal ripple tiles
 //! ([`cellsurf::tile`]), from ripple NetCDF files (`--tile`, repeatable) and/or tiles generated
 //! in-process (`--generate`), optionally with fractal rippled dunes (`--dunes`), and streams it
-//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams and slopes.
-//! `--dry-run` prints the size and the disk space the output would take, and stops.
+//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams and
+//! slopes. `--dry-run` prints the size and the disk space the output would take, and stops.
 
 use std::path::PathBuf;
 use std::time::Instant;
