@@ -160,6 +160,7 @@ fn spec(format: StreamFormat, volume: Option<Field>) -> StreamSpec {
         volume,
         title: "test mosaic".into(),
         params: vec![("mosaic".into(), toml::Value::String("3x2".into()))],
+        elevation_long_name: None,
     }
 }
 

@@ -117,6 +117,23 @@ fn bad_input_is_named() {
             &["--volume", "impedance", "--dunes"][..],
             "--volume with --dunes",
         ),
+        (
+            &["--current-angle", "NaN"][..],
+            "--current-angle = NaN is out of range",
+        ),
+        (
+            &["--dunes", "--current-angle", "NaN"][..],
+            "--current-angle = NaN is out of range",
+        ),
+        (
+            &["--dunes", "--dune-grid", "100000"][..],
+            "dune_grid = 100000 is out of range: expected 2 ..= 72 nodes",
+        ),
+        (&["--hurst", "0.5"][..], "--dunes"),
+        (&["--dune-rms", "0.1"][..], "--dunes"),
+        (&["--dune-wavelength", "0.5"][..], "--dunes"),
+        (&["--steering", "1"][..], "--dunes"),
+        (&["--dune-grid", "16"][..], "--dunes"),
     ] {
         let mut a = GEN.to_vec();
         a.extend(extra);
@@ -128,4 +145,70 @@ fn bad_input_is_named() {
     }
     let o = cellsurf(&["tile"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("no tiles"));
+}
+
+#[test]
+fn current_angle_on_file_tiles_needs_dunes() {
+    // tiles read from a file keep their current: without --dunes the angle would do nothing
+    let r = tmp("angle-r.nc");
+    let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+    g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
+    assert!(cellsurf(&g).status.success());
+    let base = ["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+    let mut a = base.to_vec();
+    a.extend(["--current-angle", "45"]);
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "accepted: {err}");
+    assert!(err.contains("--current-angle = 45 needs --dunes"), "{err}");
+    a.extend(["--dunes", "--dune-grid", "24", "--json"]);
+    let v = json(&cellsurf(&a));
+    assert_eq!(v["dunes"]["current_angle_deg"], 45.0);
+}
+
+#[test]
+fn dune_slopes_are_reported_and_steep_dunes_warned() {
+    let mut a = GEN.to_vec();
+    a.extend(["--dunes", "--dune-grid", "32", "--json"]);
+    // default rms: an rms dune slope of 6 deg, well below the angle of repose
+    let o = cellsurf(&a);
+    let v = json(&o);
+    let d = &v["dunes"];
+    assert!(
+        (d["rms_dune_slope_deg"].as_f64().unwrap() - 6.0).abs() < 1e-6,
+        "{d}"
+    );
+    assert!(d["max_dune_slope_deg"].as_f64().unwrap() < 32.0, "{d}");
+    assert_eq!(d["dune_slope_above_repose_fraction"], 0.0);
+    assert!(v["surface_slope"]["max_deg"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+    // the elevation is not a height above the substrate any more: its long name says so
+    let stem = tmp("dunes.npy");
+    let mut b = a.clone();
+    b.extend(["--format", "npy", "--out", stem.to_str().unwrap()]);
+    json(&cellsurf(&b));
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).unwrap())
+            .unwrap();
+    let long = side["fields"]["elevation"]["long_name"].as_str().unwrap();
+    assert!(
+        long.contains("plus the dune relief about the mean dune level"),
+        "{long}"
+    );
+    // 0.3 m rms on a 0.36 m x 0.18 m surface: far steeper than sand can stand
+    a.extend(["--dune-rms", "0.3"]);
+    let o = cellsurf(&a);
+    let v = json(&o);
+    assert!(v["dunes"]["max_dune_slope_deg"].as_f64().unwrap() > 32.0);
+    assert!(
+        v["dunes"]["dune_slope_above_repose_fraction"]
+            .as_f64()
+            .unwrap()
+            > 0.5
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("warning: the dune relief is steeper than sand can stand"),
+        "{err}"
+    );
 }

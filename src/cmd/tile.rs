@@ -1,8 +1,8 @@
 //! `cellsurf tile`: builds a large surface as a mosaic of toroidal ripple tiles
 //! ([`cellsurf::tile`]), from ripple NetCDF files (`--tile`, repeatable) and/or tiles generated
 //! in-process (`--generate`), optionally with fractal rippled dunes (`--dunes`), and streams it
-//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams.
-//! `--dry-run` prints the size and the disk space the output would take, and stops.
+//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams and
+//! slopes. `--dry-run` prints the size and the disk space the output would take, and stops.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -17,8 +17,8 @@ use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::{
-    Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter, SeamStats,
-    StreamFormat, StreamSpec, Tile,
+    ANGLE_OF_REPOSE_DEG, Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter,
+    SeamStats, StreamFormat, StreamSpec, Tile,
 };
 
 /// Options of `cellsurf tile`.
@@ -34,22 +34,23 @@ pub struct Args {
     /// Ripple scene (TOML) for --generate [default: the ripple defaults].
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// --generate: columns along x of a tile.
+    /// --generate: columns along x of a tile [default: the scene's, else 128].
     #[arg(long)]
     nx: Option<usize>,
-    /// --generate: columns along y of a tile.
+    /// --generate: columns along y of a tile [default: the scene's, else 64].
     #[arg(long)]
     ny: Option<usize>,
-    /// --generate: mean sand thickness, automata per column.
+    /// --generate: mean sand thickness, automata per column [default: the scene's, else 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// --generate: steps of each run (at least the largest --snapshots step).
+    /// --generate: steps of each run, raised to the largest --snapshots step [default: the
+    /// scene's, else 10000].
     #[arg(long)]
     steps: Option<u64>,
-    /// --generate: fraction of automata triggered per step.
+    /// --generate: fraction of automata triggered per step [default: the scene's, else 0.001].
     #[arg(long)]
     activity: Option<f64>,
-    /// --generate: bin size, m.
+    /// --generate: bin size, m [default: the scene's, else 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
@@ -78,24 +79,32 @@ pub struct Args {
     #[arg(long)]
     dunes: bool,
     /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
-    #[arg(long, default_value_t = 0.6)]
+    #[arg(long, default_value_t = 0.6, requires = "dunes")]
     hurst: f64,
-    /// --dunes: rms dune height, m.
-    #[arg(long, default_value_t = 0.5)]
-    dune_rms: f64,
+    /// --dunes: rms dune height, m [default: the height that gives the dune field an rms slope
+    /// of 6 deg at its grid, so it scales with the extent (e.g. 47 mm on 20 x 20 m with the
+    /// default grid, H 0.6); its largest slope is then about 20 deg, below the angle of repose, 32 deg].
+    /// The slopes are measured and reported; steeper dunes than 32 deg get a warning.
+    #[arg(long, requires = "dunes")]
+    dune_rms: Option<f64>,
     /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
-    #[arg(long)]
+    #[arg(long, requires = "dunes")]
     dune_wavelength: Option<f64>,
-    /// Current direction, degrees from +x [default: the tiles' current; --generate runs use it].
+    /// Current direction, degrees from +x, for --dunes (the ripple pattern is turned to it) and
+    /// for the --generate runs [default: the tiles' current]; with neither it is an error.
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
-    /// --dunes: steering of the current by the dune slope (u = e - steering grad D).
-    #[arg(long, default_value_t = 3.0)]
+    /// --dunes: steering of the current by the dune slope, dimensionless: u = e - steering grad D,
+    /// e the unit vector of --current-angle and grad D the dune slope in m/m.
+    #[arg(long, default_value_t = 3.0, requires = "dunes")]
     steering: f64,
-    /// --dunes: dune-grid nodes per side (at most the surface's bins).
-    #[arg(long, default_value_t = 256)]
-    dune_grid: usize,
-    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar).
+    /// --dunes: dune-grid nodes per side, 2 ..= the surface's bins along its longer side (a
+    /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
+    #[arg(long, requires = "dunes")]
+    dune_grid: Option<usize>,
+    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar). Without
+    /// --out nothing is written: the rows are computed and only the seams and slopes measured
+    /// (--dry-run still prints the disk space the --format would take).
     #[arg(long, value_name = "FILE")]
     out: Option<PathBuf>,
     /// Output format: netcdf or npy.
@@ -255,6 +264,16 @@ pub fn run(a: Args) -> Result<()> {
             "--volume = elevation is out of range: expected a volume field (grain_size, porosity, density, sound_speed, impedance)"
         );
     }
+    if let Some(c) = a.current_angle {
+        if !a.dunes && !a.generate {
+            bail!(
+                "--current-angle = {c} needs --dunes (it turns the ripple pattern on the dunes) or --generate (the current of the ripple runs); tiles from --tile files keep their own current"
+            );
+        }
+        if !c.is_finite() {
+            bail!("--current-angle = {c} is out of range: expected a finite angle in degrees");
+        }
+    }
     if a.mosaic.is_some() && a.extent.is_some() {
         bail!("--mosaic and --extent both given: expected one of them");
     }
@@ -286,15 +305,20 @@ pub fn run(a: Args) -> Result<()> {
         },
         None => Relief::Fbm { hurst: a.hurst },
     };
-    let dune_params = DuneParams {
+    let (mw, mh) = mosaic.size();
+    let dune_grid = a.dune_grid.unwrap_or_else(|| 256.min(mw.max(mh)));
+    let mut dune_params = DuneParams {
         relief,
-        rms: a.dune_rms,
-        grid: a.dune_grid,
+        rms: a.dune_rms.unwrap_or(0.0),
+        grid: dune_grid,
         current_angle: a.current_angle.unwrap_or(tile_angle),
         steering: a.steering,
         seed: a.seed,
     };
     let dunes = if a.dunes {
+        if a.dune_rms.is_none() {
+            dune_params.rms = RippledDunes::default_rms(&mosaic, &dune_params)?;
+        }
         Some(RippledDunes::new(mosaic.clone(), &dune_params)?)
     } else {
         None
@@ -316,11 +340,11 @@ pub fn run(a: Args) -> Result<()> {
         volume: a.volume.map(|f| f.name()).unwrap_or("none").into(),
         dunes: a.dunes,
         hurst: a.hurst,
-        dune_rms: a.dune_rms,
+        dune_rms: dune_params.rms,
         dune_wavelength: a.dune_wavelength.unwrap_or(0.0),
         current_angle: dune_params.current_angle,
         steering: a.steering,
-        dune_grid: a.dune_grid,
+        dune_grid,
     };
     let spec = StreamSpec {
         format,
@@ -331,6 +355,9 @@ pub fn run(a: Args) -> Result<()> {
             "Mosaic of toroidal sand-ripple tiles (cellsurf)".into()
         },
         params: toml_pairs(&recorded),
+        elevation_long_name: a.dunes.then(|| {
+            "ripple bed height above the non-erodible substrate plus the dune relief about the mean dune level (zero-mean fractal dunes: negative in the dune troughs)".into()
+        }),
     };
     if a.volume.is_some() && src.levels() == 0 {
         bail!("--volume: the tiles carry no volume levels");
@@ -348,13 +375,33 @@ pub fn run(a: Args) -> Result<()> {
                 human(estimate),
                 out.display()
             ),
+            None if a.dry_run => eprintln!(
+                "tile: {size_line}; would take about {} as {} (no --out given)",
+                human(estimate),
+                a.format
+            ),
             None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
         }
     }
-    let (dune_slope, dune_rms) = match &dunes {
-        Some(d) => (measured_slope(d.dunes()), Some(d.dunes().rms())),
-        None => (None, None),
+    let (dune_slope, dune_rms, dune_slopes) = match &dunes {
+        Some(d) => (
+            measured_slope(d.dunes()),
+            Some(d.dunes().rms()),
+            Some(d.dunes().slope_stats()),
+        ),
+        None => (None, None, None),
     };
+    if let Some(s) = dune_slopes
+        && s.max_deg > ANGLE_OF_REPOSE_DEG
+    {
+        eprintln!(
+            "warning: the dune relief is steeper than sand can stand: largest dune slope {:.1} deg, {:.1} % of the dune grid above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg), rms slope {:.1} deg (rms height {:.3} m); lower --dune-rms (or leave it out for the default)",
+            s.max_deg,
+            100.0 * s.above_repose,
+            s.rms_deg,
+            dune_params.rms
+        );
+    }
     let summary = |seams: Option<&SeamStats>, bytes: u64, files: &[PathBuf], elapsed: f64| {
         serde_json::json!({
             "cellsurf_version": VERSION,
@@ -382,6 +429,16 @@ pub fn run(a: Args) -> Result<()> {
                 "dune_wavelength_m": a.dune_wavelength,
                 "rms_m": opt(dune_rms),
                 "current_angle_deg": dune_params.current_angle,
+                "max_dune_slope_deg": dune_slopes.map(|s| s.max_deg),
+                "rms_dune_slope_deg": dune_slopes.map(|s| s.rms_deg),
+                "dune_slope_above_repose_fraction": dune_slopes.map(|s| s.above_repose),
+                "angle_of_repose_deg": ANGLE_OF_REPOSE_DEG,
+            })),
+            "surface_slope": seams.and_then(|s| s.slope).map(|s| serde_json::json!({
+                "max_deg": s.max_deg,
+                "rms_deg": s.rms_deg,
+                "above_repose_fraction": s.above_repose,
+                "angle_of_repose_deg": ANGLE_OF_REPOSE_DEG,
             })),
         })
     };
@@ -405,7 +462,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         None => {
             let (tnx, tny) = src.tile_size();
-            let mut m = SeamMeter::new(w, tnx, tny);
+            let mut m = SeamMeter::new(w, tnx, tny).with_slopes(dx);
             let mut row = vec![0.0f32; w];
             for y in 0..h {
                 src.fill_row(y, &mut row);
@@ -435,6 +492,22 @@ pub fn run(a: Args) -> Result<()> {
             f(seams.y.across),
             r(seams.y.ratio())
         );
+        if let Some(s) = seams.slope {
+            eprintln!(
+                "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            );
+        }
+        if let Some(s) = dune_slopes {
+            eprintln!(
+                "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            );
+        }
         if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
             eprintln!(
                 "dune spectrum slope {s:.2} (requested {:.2})",

@@ -28,6 +28,10 @@ use super::fractal::{DuneField, FbmParams, Relief};
 use super::mosaic::Mosaic;
 use super::stream::RowSource;
 
+/// The rms slope of the dune field that the default rms dune height gives
+/// ([`RippledDunes::default_rms`]), degrees.
+pub const DEFAULT_RMS_DUNE_SLOPE_DEG: f64 = 6.0;
+
 /// Parameters of the rippled dunes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DuneParams {
@@ -35,7 +39,8 @@ pub struct DuneParams {
     pub relief: Relief,
     /// Rms dune height, m.
     pub rms: f64,
-    /// Dune-grid nodes along each side (at most the mosaic's bins along it).
+    /// Dune-grid nodes along each side: 2 ..= the mosaic's bins along its longer side (a shorter
+    /// side gets at most its own bins).
     pub grid: usize,
     /// Current direction theta0, degrees counter-clockwise from +x.
     pub current_angle: f64,
@@ -63,8 +68,15 @@ impl RippledDunes {
     /// Ripples from `mosaic` on dunes of `p` spanning the whole mosaic.
     pub fn new(mosaic: Mosaic, p: &DuneParams) -> Result<RippledDunes, TileError> {
         let (w, h) = mosaic.size();
-        if p.grid < 2 {
-            return Err(TileError::range("dune_grid", p.grid, ">= 2 nodes"));
+        if p.grid < 2 || p.grid > w.max(h) {
+            return Err(TileError::range(
+                "dune_grid",
+                p.grid,
+                format!(
+                    "2 ..= {} nodes (the surface's bins along its longer side)",
+                    w.max(h)
+                ),
+            ));
         }
         if !(p.steering.is_finite() && p.steering >= 0.0) {
             return Err(TileError::range("steering", p.steering, ">= 0"));
@@ -76,6 +88,13 @@ impl RippledDunes {
                 "a finite angle in degrees",
             ));
         }
+        let dunes = DuneField::synthesize(&Self::field_params(&mosaic, p))?;
+        Self::with_field(mosaic, dunes, p.current_angle, p.steering)
+    }
+
+    /// The dune field's synthesis parameters for `mosaic` and `p` (unchecked).
+    fn field_params(mosaic: &Mosaic, p: &DuneParams) -> FbmParams {
+        let (w, h) = mosaic.size();
         let dx = mosaic.tiles()[0].bin_size;
         let (gx, gy) = (p.grid.min(w).max(2), p.grid.min(h).max(2));
         let relief = match p.relief {
@@ -85,7 +104,7 @@ impl RippledDunes {
             },
             r => r,
         };
-        let dunes = DuneField::synthesize(&FbmParams {
+        FbmParams {
             nx: gx,
             ny: gy,
             dx: w as f64 * dx / gx as f64,
@@ -93,8 +112,27 @@ impl RippledDunes {
             relief,
             rms: p.rms,
             seed: p.seed,
+        }
+    }
+
+    /// The default rms dune height (m) for `mosaic` and `p` (its `rms` is ignored): the rms that
+    /// gives the dune field an rms slope of [`DEFAULT_RMS_DUNE_SLOPE_DEG`] at its grid. The
+    /// synthesis is linear in the rms, so this is `tan(6 deg) / s1`, `s1` the rms slope (m/m) of
+    /// the same field with an rms of 1 m. It scales with the dune-grid spacing (the extent over
+    /// the grid nodes): a 20 m surface on 256 nodes gets centimetres, a 1 km one metres. The
+    /// largest slope of a Gaussian field of 256 x 256 nodes is about 3.5 times its rms slope,
+    /// about 20 deg: below the angle of repose (32 deg).
+    pub fn default_rms(mosaic: &Mosaic, p: &DuneParams) -> Result<f64, TileError> {
+        let unit = DuneField::synthesize(&FbmParams {
+            rms: 1.0,
+            ..Self::field_params(mosaic, p)
         })?;
-        Self::with_field(mosaic, dunes, p.current_angle, p.steering)
+        let s = unit.slope_stats().rms_deg.to_radians().tan();
+        Ok(if s > 0.0 {
+            DEFAULT_RMS_DUNE_SLOPE_DEG.to_radians().tan() / s
+        } else {
+            0.0
+        })
     }
 
     /// Ripples from `mosaic` on a given dune field (its period should span the mosaic for a

@@ -28,6 +28,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rustfft::num_complex::Complex;
 
 use super::TileError;
+use super::seam::{SlopeAcc, SlopeStats};
 use crate::ripple::spectrum::fft2;
 use crate::sampler;
 
@@ -299,6 +300,15 @@ impl DuneField {
     /// Slope `(dh/dx, dh/dy)` at `(x, y)` m: central differences at the nodes, bilinear between.
     pub fn gradient(&self, x: f64, y: f64) -> (f64, f64) {
         (self.bilinear(&self.gx, x, y), self.bilinear(&self.gy, x, y))
+    }
+
+    /// Slopes of the relief at its nodes (central differences), against the angle of repose.
+    pub fn slope_stats(&self) -> SlopeStats {
+        let mut acc = SlopeAcc::default();
+        for (&gx, &gy) in self.gx.iter().zip(&self.gy) {
+            acc.push(gx, gy);
+        }
+        acc.stats()
     }
 
     /// Rms height, m.

@@ -38,7 +38,7 @@ pub mod tileset;
 pub use dunes::{DuneParams, RippledDunes};
 pub use fractal::{DuneField, FbmParams, Relief};
 pub use mosaic::{Choose, Mosaic};
-pub use seam::{SeamMeter, SeamStats};
+pub use seam::{ANGLE_OF_REPOSE_DEG, SeamMeter, SeamStats, SlopeStats};
 pub use stream::{RowSource, StreamFormat, StreamReport, StreamSpec};
 pub use tileset::Tile;
 

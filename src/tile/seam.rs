@@ -20,6 +20,60 @@
 
 use serde::Serialize;
 
+/// The angle of repose of sand (the model's avalanche angle), degrees: relief steeper than this
+/// would avalanche.
+pub const ANGLE_OF_REPOSE_DEG: f64 = 32.0;
+
+/// Slope statistics of a surface (slope = the angle of the gradient magnitude).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct SlopeStats {
+    /// Largest slope, degrees.
+    pub max_deg: f64,
+    /// The angle of the rms gradient magnitude, degrees.
+    pub rms_deg: f64,
+    /// Fraction of the places steeper than [`ANGLE_OF_REPOSE_DEG`].
+    pub above_repose: f64,
+    /// Places measured.
+    pub n: u64,
+}
+
+/// Accumulates gradient magnitudes (m/m) into [`SlopeStats`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlopeAcc {
+    n: u64,
+    sum_sq: f64,
+    max: f64,
+    above: u64,
+}
+
+impl SlopeAcc {
+    /// Adds one gradient `(dh/dx, dh/dy)`.
+    #[inline]
+    pub fn push(&mut self, gx: f64, gy: f64) {
+        let g2 = gx * gx + gy * gy;
+        let t = ANGLE_OF_REPOSE_DEG.to_radians().tan();
+        self.n += 1;
+        self.sum_sq += g2;
+        self.max = self.max.max(g2.sqrt());
+        if g2 > t * t {
+            self.above += 1;
+        }
+    }
+
+    /// The statistics so far (all 0 when nothing was pushed).
+    pub fn stats(&self) -> SlopeStats {
+        if self.n == 0 {
+            return SlopeStats::default();
+        }
+        SlopeStats {
+            max_deg: self.max.atan().to_degrees(),
+            rms_deg: (self.sum_sq / self.n as f64).sqrt().atan().to_degrees(),
+            above_repose: self.above as f64 / self.n as f64,
+            n: self.n,
+        }
+    }
+}
+
 /// The blend weights of bin `u` (0-based) of a tile of `n` bins with a cross-fade band of `band`
 /// bins centred on each edge: `(own weight, neighbour, neighbour weight)` where `neighbour` is
 /// -1 (the cell before), +1 (the cell after) or 0 (none; own weight 1). The own weight is the
@@ -118,6 +172,9 @@ pub struct SeamStats {
     pub x: DirStats,
     /// Jumps along y.
     pub y: DirStats,
+    /// Bin-to-bin slopes of the surface (forward differences along x and y, periodic), when the
+    /// meter was given the bin size ([`SeamMeter::with_slopes`]).
+    pub slope: Option<SlopeStats>,
 }
 
 /// Measures seams row by row: feed every row of a `width x height` surface made of tiles of
@@ -132,6 +189,7 @@ pub struct SeamMeter {
     prev: Vec<f32>,
     rows: usize,
     y_lines: Vec<(f64, bool)>,
+    slope: Option<(f64, SlopeAcc)>,
 }
 
 impl SeamMeter {
@@ -145,6 +203,25 @@ impl SeamMeter {
             prev: Vec::new(),
             rows: 0,
             y_lines: Vec::new(),
+            slope: None,
+        }
+    }
+
+    /// Also measures the bin-to-bin slopes of the surface, bins of `bin_size` m
+    /// ([`SeamStats::slope`]).
+    pub fn with_slopes(mut self, bin_size: f64) -> SeamMeter {
+        self.slope = Some((bin_size, SlopeAcc::default()));
+        self
+    }
+
+    /// Slopes between row `prev` and the next row `row` (the gradient at the bins of `prev`).
+    fn slopes(acc: &mut SlopeAcc, dx: f64, prev: &[f32], row: &[f32]) {
+        let w = prev.len();
+        for i in 0..w {
+            let j = if i + 1 == w { 0 } else { i + 1 };
+            let gx = (prev[j] as f64 - prev[i] as f64) / dx;
+            let gy = (row[i] as f64 - prev[i] as f64) / dx;
+            acc.push(gx, gy);
         }
     }
 
@@ -172,6 +249,9 @@ impl SeamMeter {
         } else {
             let seam = self.rows % self.tile_ny == 0;
             self.y_lines.push((Self::row_jump(&self.prev, row), seam));
+            if let Some((dx, acc)) = &mut self.slope {
+                Self::slopes(acc, *dx, &self.prev, row);
+            }
         }
         self.prev.clear();
         self.prev.extend_from_slice(row);
@@ -187,6 +267,9 @@ impl SeamMeter {
             let seam = self.rows % self.tile_ny == 0;
             self.y_lines
                 .push((Self::row_jump(&self.prev, &self.first), seam));
+            if let Some((dx, acc)) = &mut self.slope {
+                Self::slopes(acc, *dx, &self.prev, &self.first);
+            }
         }
         let h = self.rows as f64;
         let x_lines: Vec<(f64, bool)> = self
@@ -203,6 +286,7 @@ impl SeamMeter {
         SeamStats {
             x,
             y: DirStats::from_lines(&self.y_lines),
+            slope: self.slope.map(|(_, acc)| acc.stats()),
         }
     }
 }
@@ -244,5 +328,24 @@ mod tests {
         assert_eq!(s.y.across, Some(0.0));
         assert_eq!(s.y.seams, 2);
         assert_eq!(s.y.lines, 2);
+        assert_eq!(s.slope, None);
+    }
+
+    #[test]
+    fn meter_measures_slopes() {
+        // a ramp rising 1 bin per bin along y (45 deg) with a 2-bin step (63.4 deg) at x 3|0
+        let mut m = SeamMeter::new(4, 4, 4).with_slopes(0.5);
+        for y in 0..4 {
+            let z = 0.5 * y as f32;
+            m.push_row(&[z, z, z, z + 1.0]);
+        }
+        let s = m.finish().slope.unwrap();
+        assert_eq!(s.n, 16);
+        // the wrap pair of rows (3 -> 0) falls by 3 bins, with the x step: atan(sqrt(13))
+        assert!(
+            (s.max_deg - 13f64.sqrt().atan().to_degrees()).abs() < 1e-9,
+            "{s:?}"
+        );
+        assert!((s.above_repose - 1.0).abs() < 1e-12, "{s:?}");
     }
 }

@@ -79,6 +79,17 @@ pub struct StreamSpec {
     /// Parameters recorded in the file (NetCDF global attributes `param_NAME`, JSON
     /// `parameters`).
     pub params: Vec<(String, toml::Value)>,
+    /// The `long_name` of `elevation` when it is not the ripple bed's ("bed elevation above the
+    /// non-erodible substrate"), e.g. with dune relief added (NetCDF attribute, JSON field).
+    pub elevation_long_name: Option<String>,
+}
+
+impl StreamSpec {
+    /// The units and long name of `elevation`.
+    fn elevation_meta(&self) -> (&'static str, &str) {
+        let (units, long) = Field::Elevation.meta();
+        (units, self.elevation_long_name.as_deref().unwrap_or(long))
+    }
 }
 
 /// What a stream wrote.
@@ -216,7 +227,7 @@ pub fn write_stream(
     check_source(src, nz)?;
     let start = Instant::now();
     let (tnx, tny) = src.tile_size();
-    let mut meter = SeamMeter::new(src.width(), tnx, tny);
+    let mut meter = SeamMeter::new(src.width(), tnx, tny).with_slopes(src.bin_size());
     let files = match spec.format {
         StreamFormat::NetCdf => {
             write_netcdf_stream(path, src, spec, nz, &mut meter, progress)?;
@@ -261,7 +272,7 @@ fn write_netcdf_stream(
         .map_err(|x| out_err(path, x))?;
     coord(&mut ds, "y", "m", "y of the bin centre (periodic)", "Y")
         .map_err(|x| out_err(path, x))?;
-    let (units, long) = Field::Elevation.meta();
+    let (units, long) = spec.elevation_meta();
     ds.add_var_f32("elevation", &["y", "x"])
         .map_err(|x| out_err(path, x))?;
     ds.add_var_attr_string("elevation", "units", units)
@@ -434,7 +445,7 @@ fn write_npy_stream(
                 .unwrap_or_default(),
         )
     };
-    let (eu, el) = Field::Elevation.meta();
+    let (eu, el) = spec.elevation_meta();
     let mut fields = vec![format!(
         "    \"elevation\": {{\"file\": {}, \"dims\": [\"y\", \"x\"], \"shape\": [{h}, {w}], \"units\": {}, \"long_name\": {}}}",
         file_name(&finals[0]),
