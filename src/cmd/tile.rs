@@ -254,6 +254,9 @@ pub fn run(a: Args) -> Result<()> {
     let quiet = a.quiet || a.json;
     let choose: Choose = a.choose.parse()?;
     let format: StreamFormat = a.format.parse()?;
+    if let Some(out) = &a.out {
+        cellsurf::io::check_output("--out", out)?;
+    }
     if a.dunes && a.volume.is_some() {
         bail!(
             "--volume with --dunes is not supported: the volume beneath rippled dunes would need the dune relief in z (write the mosaic's volume without --dunes)"

@@ -311,7 +311,9 @@ fn write_netcdf_stream(
     )
     .map_err(|x| out_err(path, x))?;
 
-    let tmp = crate::io::temp_path(path);
+    // Listed while alive, so that an interrupted run removes it (crate::io).
+    let guard = crate::io::TempFile::new(path);
+    let tmp = guard.path().to_path_buf();
     let result = (|| -> Result<(), TileError> {
         let file = fs::File::create(&tmp).map_err(|x| out_err(path, x))?;
         let tmp_str = tmp.to_string_lossy().to_string();
@@ -386,7 +388,10 @@ fn write_npy_stream(
         finals.push(named(&format!("_{}.npy", f.name())));
     }
     let side = named(".json");
-    let temps: Vec<PathBuf> = finals.iter().map(|p| crate::io::temp_path(p)).collect();
+    // Listed while alive, so that an interrupted run removes them (crate::io).
+    let guards: Vec<crate::io::TempFile> =
+        finals.iter().map(|p| crate::io::TempFile::new(p)).collect();
+    let temps: Vec<PathBuf> = guards.iter().map(|g| g.path().to_path_buf()).collect();
     let result = (|| -> Result<(), TileError> {
         let open = |p: &Path, shape: &[usize]| -> Result<BufWriter<fs::File>, TileError> {
             let f = fs::File::create(p).map_err(|x| out_err(p, x))?;
@@ -438,6 +443,7 @@ fn write_npy_stream(
     for (t, f) in temps.iter().zip(&finals) {
         fs::rename(t, f).map_err(|x| out_err(f, x))?;
     }
+    drop(guards);
     let file_name = |p: &Path| {
         json_string(
             &p.file_name()
