@@ -26,6 +26,27 @@ const LINEAR: &[&str] = &[
     "--json",
 ];
 
+/// `cellsurf raytrace --json` over the floor in `nc` (3 m of section, 3 m of water), writing
+/// the insonification to `ins`: the JSON summary.
+fn trace_over(nc: &std::path::Path, ins: &std::path::Path) -> serde_json::Value {
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        nc.to_str().unwrap(),
+        "--water-depth",
+        "3",
+        "--source-depth",
+        "2.5",
+        "--length",
+        "3",
+        "--json",
+        "--out",
+        ins.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
 #[test]
 fn json_summary_and_files() {
     let (ins, bty, sec, rays) = (
@@ -128,22 +149,7 @@ fn seafloor_from_a_ripple_file() {
         nc.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = cellsurf(&[
-        "raytrace",
-        "--seafloor",
-        nc.to_str().unwrap(),
-        "--water-depth",
-        "3",
-        "--source-depth",
-        "2.5",
-        "--length",
-        "3",
-        "--json",
-        "--out",
-        ins.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = trace_over(&nc, &ins);
     assert!(
         v["parameters"]["seafloor"]
             .as_str()
@@ -307,22 +313,7 @@ fn seafloor_from_a_tile_mosaic() {
         nc.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = cellsurf(&[
-        "raytrace",
-        "--seafloor",
-        nc.to_str().unwrap(),
-        "--water-depth",
-        "3",
-        "--source-depth",
-        "2.5",
-        "--length",
-        "3",
-        "--json",
-        "--out",
-        ins.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = trace_over(&nc, &ins);
     assert!(
         v["parameters"]["seafloor"]
             .as_str()
