@@ -82,15 +82,7 @@ impl Table {
     pub fn parse(what: &str, text: &str, limits: (f64, f64, &str)) -> Result<Self, RaytraceError> {
         let (mut z, mut v) = (Vec::new(), Vec::new());
         let mut header = false;
-        for (n, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let cols: Vec<&str> = line
-                .split([',', ';', '\t', ' '])
-                .filter(|s| !s.is_empty())
-                .collect();
+        for (n, line, cols) in table_rows(text) {
             let nums: Option<Vec<f64>> = cols.iter().map(|c| c.parse::<f64>().ok()).collect();
             match nums {
                 Some(n2) if n2.len() >= 2 => {
@@ -460,6 +452,22 @@ impl SoundSpeed {
         }
         Ok(())
     }
+}
+
+/// The data rows of a small text table: `(line index, line, cells)`, cells separated by commas,
+/// semicolons, tabs or spaces; `#` comments and blank lines skipped.
+pub(crate) fn table_rows(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(n, line)| {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            return None;
+        }
+        let cols: Vec<&str> = line
+            .split([',', ';', '\t', ' '])
+            .filter(|s| !s.is_empty())
+            .collect();
+        Some((n, line, cols))
+    })
 }
 
 #[cfg(test)]

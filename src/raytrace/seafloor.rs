@@ -141,15 +141,7 @@ impl Seafloor {
         let (mut x, mut z, mut imp) = (Vec::new(), Vec::new(), Vec::new());
         let mut any_imp = false;
         let mut header = false;
-        for (n, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let cols: Vec<&str> = line
-                .split([',', ';', '\t', ' '])
-                .filter(|s| !s.is_empty())
-                .collect();
+        for (n, line, cols) in super::profile::table_rows(text) {
             let nums: Vec<Option<f64>> = cols.iter().map(|c| c.parse::<f64>().ok()).collect();
             match (nums.first(), nums.get(1)) {
                 (Some(Some(a)), Some(Some(b))) => {
