@@ -6,10 +6,11 @@
 //! - `same_clock_512`: the exact and the rejection sampler over the same number of timesteps
 //!   on a 512 x 512 hex torus flame, n = 2, 8, 50: the exact sampler's advantage grows with n.
 
+use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use cellsurf::engine::rng::stream;
 use cellsurf::growth::Growth;
-use cellsurf::lattice::{Boundary, Lattice, Neighbourhood};
-use cellsurf::rule::{Sticking, Weight};
-use cellsurf::sampler::{Outcome, stream};
+use cellsurf::growth::rule::{Sticking, Weight};
+use cellsurf::growth::sampler::Outcome;
 use divan::counter::ItemsCount;
 use divan::{Bencher, black_box};
 

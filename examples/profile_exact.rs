@@ -1,6 +1,8 @@
 //! Profiling driver: grows a 2048 x 2048 hexagonal torus flame with the exact sampler.
 //! `cargo run --release --example profile_exact -- N EVENTS`
-use cellsurf::{growth::Growth, lattice::*, rule::*, sampler::*};
+use cellsurf::engine::lattice::*;
+use cellsurf::engine::rng::stream;
+use cellsurf::growth::{Growth, rule::*, sampler::*};
 use std::time::Instant;
 fn main() {
     let mut args = std::env::args().skip(1);

@@ -9,13 +9,13 @@ use std::path::{Path, PathBuf};
 
 use cellsurf::cursor::display::{SeaLevel, flooded_fraction, quantile};
 use cellsurf::cursor::stats::{
-    self, NoiseModel, density_error, drift_formula, loglog_slope, mean_direction, mean_step,
-    step_covariance,
+    self, NoiseModel, density_error, drift_formula, mean_direction, mean_step, step_covariance,
 };
 use cellsurf::cursor::{
     CursorError, CursorWalk, DIRECTIONS, MAX_WIND, Transitions, UNIT, Wind, WindField, WindSpec,
     probabilities,
 };
+use cellsurf::engine::stats::loglog_slope;
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -70,7 +70,7 @@ fn unit_vectors_match_the_lattice_directions() {
         assert!((f64::from(dy) / n - uy).abs() < 1e-15);
     }
     // The Moore offsets of the lattice engine, in the same order.
-    use cellsurf::lattice::Neighbourhood;
+    use cellsurf::engine::lattice::Neighbourhood;
     assert_eq!(Neighbourhood::Square8.offsets(0), &DIRECTIONS);
 }
 

@@ -12,7 +12,7 @@ use cellsurf::dunes::{
     BODY_THRESHOLD, DuneConfig, DuneError, DuneModel, GRAINS_PER_UNIT, Mode, PickEvent,
     above_threshold, bodies, jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains,
 };
-use cellsurf::lattice::{Boundary, Lattice, Neighbourhood};
+use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
 
 const G: u64 = GRAINS_PER_UNIT;
 

@@ -1,9 +1,9 @@
 //! Simulation-level tests: each published figure's scenario reproduces what the growth paper
 //! says it shows. The tests use the same scenario files as `cellsurf figures`.
 
-use cellsurf::figures::scenario;
-use cellsurf::sampler::SamplerKind;
-use cellsurf::scene::{self, NoHooks, Observation, RunResult, SceneConfig};
+use cellsurf::growth::figures::scenario;
+use cellsurf::growth::sampler::SamplerKind;
+use cellsurf::growth::scene::{self, NoHooks, Observation, RunResult, SceneConfig};
 
 fn run(cfg: &SceneConfig) -> RunResult {
     scene::run(cfg, &mut NoHooks).unwrap()
@@ -104,7 +104,7 @@ fn growth_fig7_crystal_becomes_a_diamond() {
     );
     // Without the weight the crystal stays round.
     let mut iso = cfg.clone();
-    iso.weight = cellsurf::scene::WeightKind::None;
+    iso.weight = cellsurf::growth::scene::WeightKind::None;
     let (_, _, q1, t1) = over_seeds(&iso, 1..5, |o| o.values.axis_diagonal_ratio.unwrap());
     assert!(
         r1 - q1 > 5.0 * (s1 * s1 + t1 * t1).sqrt(),

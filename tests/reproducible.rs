@@ -7,11 +7,14 @@
 //!   (the exact sampler keeps its next acceptance time across a pause). The scene runner's
 //!   extra checkpoints (animation frames) therefore do not change its results either.
 
+use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use cellsurf::engine::rng::{Stream, stream};
 use cellsurf::growth::Growth;
-use cellsurf::lattice::{Boundary, Lattice, Neighbourhood};
-use cellsurf::rule::{Sticking, Weight};
-use cellsurf::sampler::{Outcome, SamplerKind, Stream, stream};
-use cellsurf::scene::{self, NoHooks, Observation, RunHooks, RunResult, SceneConfig, SceneKind};
+use cellsurf::growth::rule::{Sticking, Weight};
+use cellsurf::growth::sampler::{Outcome, SamplerKind};
+use cellsurf::growth::scene::{
+    self, NoHooks, Observation, RunHooks, RunResult, SceneConfig, SceneKind,
+};
 use rand::RngExt;
 
 /// A small flame: hexagonal 32 x 36 torus, square start of side 6, n = 2, 3000 timesteps.

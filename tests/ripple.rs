@@ -541,7 +541,7 @@ fn netcdf_output_has_the_cdf_magic_and_opens_if_a_reader_is_installed() {
     write_netcdf(&path, &r, &snaps, &spec).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     assert_eq!(&bytes[..4], b"CDF\x02", "NetCDF-3 64-bit offset magic");
-    assert!(!cellsurf::io::temp_path(&path).exists());
+    assert!(!cellsurf::engine::io::temp_path(&path).exists());
     // Open it with scipy or netCDF4 when one of them happens to be importable.
     let script = format!(
         "import sys\ntry:\n    import netCDF4\n    d = netCDF4.Dataset({0:?})\n    e = d.variables['elevation'][:]\nexcept ImportError:\n    try:\n        from scipy.io import netcdf_file\n        d = netcdf_file({0:?}, mmap=False)\n        e = d.variables['elevation'][:]\n    except ImportError:\n        sys.exit(3)\nassert e.shape == (3, 16, 32), e.shape\nprint('ok')\n",

@@ -23,11 +23,12 @@
 //! All seeds are fixed, so every run of this file is the same; the false-alarm rates above are
 //! the chance that a correct implementation would have been unlucky with these seeds.
 
+use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use cellsurf::engine::rng::stream;
 use cellsurf::growth::Growth;
-use cellsurf::lattice::{Boundary, Lattice, Neighbourhood};
-use cellsurf::observe;
-use cellsurf::rule::{Sticking, Weight};
-use cellsurf::sampler::{Outcome, stream};
+use cellsurf::growth::observe;
+use cellsurf::growth::rule::{Sticking, Weight};
+use cellsurf::growth::sampler::Outcome;
 use std::sync::Arc;
 
 /// Which sampler advances a run.

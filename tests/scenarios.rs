@@ -10,7 +10,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use cellsurf::scene::{self, NoHooks, SceneConfig, SceneKind, StopReason};
+use cellsurf::growth::scene::{self, NoHooks, SceneConfig, SceneKind, StopReason};
 
 fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

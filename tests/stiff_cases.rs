@@ -5,11 +5,12 @@
 
 use std::sync::Arc;
 
+use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use cellsurf::engine::rng::stream;
 use cellsurf::growth::Growth;
-use cellsurf::lattice::{Boundary, Lattice, Neighbourhood};
-use cellsurf::rule::{Sticking, Weight};
-use cellsurf::sampler::{Outcome, SamplerKind, stream};
-use cellsurf::scene::{self, NoHooks, SceneConfig, SceneKind, Shape, StopReason};
+use cellsurf::growth::rule::{Sticking, Weight};
+use cellsurf::growth::sampler::{Outcome, SamplerKind};
+use cellsurf::growth::scene::{self, NoHooks, SceneConfig, SceneKind, Shape, StopReason};
 
 /// `ln(1e300)`: a class whose weight relative to the top class is below `1e-300` has
 /// `n ln(top / b)` above this.

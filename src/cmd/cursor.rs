@@ -19,8 +19,8 @@ use cellsurf::cursor::{
     ARTICLE_STEPS, CursorWalk, DEFAULT_K, DEFAULT_SIZE, SeaLevel, Transitions, WindField, WindSpec,
     display, draw_landscape,
 };
-use cellsurf::io::write_atomic;
-use cellsurf::scene::VERSION;
+use cellsurf::engine::VERSION;
+use cellsurf::engine::io::write_atomic;
 
 /// The built-in wind generators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]

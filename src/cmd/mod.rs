@@ -1,6 +1,9 @@
-//! Subcommands of the related models, one file each.
+//! The subcommands, one file per family: the growth scenes (and their convergence study),
+//! the figures, and each related model.
 pub mod cursor;
 pub mod dunes;
+pub mod figures;
+pub mod growth;
 pub mod raytrace;
 pub mod ripple;
 pub mod tile;

@@ -366,7 +366,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     let mut written = Vec::new();
     for (p, text) in &files {
-        cellsurf::io::write_atomic(p, text.as_bytes())
+        cellsurf::engine::io::write_atomic(p, text.as_bytes())
             .with_context(|| format!("writing {}", p.display()))?;
         written.push(p.clone());
     }

@@ -195,7 +195,7 @@ pub fn run(a: Args) -> Result<()> {
     }
 
     if let Some(out) = &a.out {
-        cellsurf::io::check_output("--out", out)?;
+        cellsurf::engine::io::check_output("--out", out)?;
     }
 
     let start = Instant::now();

@@ -255,7 +255,7 @@ pub fn run(a: Args) -> Result<()> {
     let choose: Choose = a.choose.parse()?;
     let format: StreamFormat = a.format.parse()?;
     if let Some(out) = &a.out {
-        cellsurf::io::check_output("--out", out)?;
+        cellsurf::engine::io::check_output("--out", out)?;
     }
     if a.dunes && a.volume.is_some() {
         bail!(

@@ -7,10 +7,10 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use cellsurf::io::write_atomic;
+use cellsurf::engine::io::write_atomic;
 use cellsurf::windripples::{self, Schedule, WindParams, WindRun};
 
-const VERSION: &str = env!("CARGO_PKG_VERSION");
+use cellsurf::engine::VERSION;
 
 /// Options of `cellsurf wind-ripples` (defaults: the notebook's `Params()`).
 #[derive(clap::Args)]

@@ -16,9 +16,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rayon::prelude::*;
 
-use crate::figures::{Figure, FigureError};
+use crate::engine::VERSION;
 use crate::plot::{self, Chart, PlotError, Series};
-use crate::scene::VERSION;
+use crate::plot::{Figure, FigureError};
 
 use super::display::{SeaLevel, flooded_fraction, terrain_rgb};
 use super::stats::{self, NoiseModel};
@@ -251,7 +251,7 @@ pub(super) fn draw_pictures(
         root.present().map_err(PlotError::drawing)?;
     }
     let png = plot::encode_png(&buf, width, height)?;
-    crate::io::write_atomic(path, &png)?;
+    crate::engine::io::write_atomic(path, &png)?;
     Ok(())
 }
 
@@ -548,7 +548,9 @@ fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             .filter(|(n, _)| **n >= FIT_FROM as f64)
             .map(|(&n, &e)| (n, e))
             .collect();
-        let slope = stats::loglog_slope(&fit).map(|s| s.0).unwrap_or(f64::NAN);
+        let slope = crate::engine::stats::loglog_slope(&fit)
+            .map(|s| s.0)
+            .unwrap_or(f64::NAN);
         let name = spec.name();
         err_series.push(Series {
             label: format!(

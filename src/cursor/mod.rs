@@ -50,7 +50,7 @@ pub mod wind;
 
 use thiserror::Error;
 
-use crate::lattice::LatticeError;
+use crate::engine::lattice::LatticeError;
 
 pub use display::SeaLevel;
 pub use walk::{CursorWalk, DIRECTIONS, Transitions, UNIT, probabilities};
@@ -135,7 +135,7 @@ pub enum CursorError {
 
 /// The figures of this model, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
-pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+pub const FIGURES: &[crate::plot::Figure] = figures::FIGURES;
 
 /// Draws a landscape next to its wind field into a PNG (written atomically): the wind as the
 /// article's input image with arrows, the heights flooded below `sea` (visits) with the

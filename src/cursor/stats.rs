@@ -15,7 +15,7 @@
 //!   `d_i`, diagonals of length `sqrt 2`) and its covariance; [`mean_direction`]: the mean unit
 //!   vector `sum_i P_i u_i`. With the article's Eq. (2) these are `k W (1 + sqrt 2) / 880` and
 //!   `k W / 440` (article units in, cells per step out).
-//! - [`error_curve`] and [`loglog_slope`]: the density error at increasing step counts and the
+//! - [`error_curve`] and [`loglog_slope`](crate::engine::stats::loglog_slope): the density error at increasing step counts and the
 //!   least-squares slope of `ln eps` against `ln N` (-1/2 expected).
 
 use serde::Serialize;
@@ -264,27 +264,4 @@ pub fn log_spaced(first: u64, last: u64, count: usize) -> Vec<u64> {
         .collect();
     v.dedup();
     v
-}
-
-/// Least-squares slope and intercept of `ln y` against `ln x` over the points with both
-/// coordinates positive and finite; `None` with fewer than two such points.
-pub fn loglog_slope(points: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let pts: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
-        .map(|(x, y)| (x.ln(), y.ln()))
-        .collect();
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    if sxx == 0.0 {
-        return None;
-    }
-    let slope = sxy / sxx;
-    Some((slope, my - slope * mx))
 }

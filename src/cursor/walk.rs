@@ -22,8 +22,8 @@
 
 use rand::Rng;
 
-use crate::lattice::{Boundary, Lattice, Neighbourhood};
-use crate::sampler::{Stream, stream};
+use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use crate::engine::rng::{Stream, stream};
 
 use super::wind::{Wind, WindField};
 use super::{CursorError, P0, SPRING_SCALE};
@@ -307,7 +307,7 @@ pub struct CursorWalk<'t> {
 
 impl<'t> CursorWalk<'t> {
     /// A walk on `tr` from the centre cell, with the random stream of `seed`
-    /// ([`crate::sampler::stream`]: Xoshiro256++).
+    /// ([`crate::engine::rng::stream`]: Xoshiro256++).
     pub fn new(tr: &'t Transitions, seed: u64) -> CursorWalk<'t> {
         let start = (tr.height() / 2) * tr.width() + tr.width() / 2;
         CursorWalk::from_cell(tr, seed, start)

@@ -9,8 +9,8 @@ use super::{
     DUNE_PICK_FRACTION, DuneConfig, DuneError, GRAINS_PER_UNIT, Mode, RIPPLE_INITIAL, RIPPLE_Q,
     jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains, to_units,
 };
-use crate::lattice::{Boundary, Lattice, Neighbourhood};
-use crate::sampler::{Stream, stream};
+use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use crate::engine::rng::{Stream, stream};
 
 /// Marks a cell that is not in the set of cells holding sand.
 const ABSENT: u32 = u32::MAX;

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::engine::DuneModel;
 use super::{GRAINS_PER_UNIT, to_units};
-use crate::lattice::{Edge, Lattice};
+use crate::engine::lattice::{Edge, Lattice};
 
 /// Connected components of a set of cells (see [`bodies`]).
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -12,7 +12,7 @@
 //! - [`DuneStats`] (from [`DuneModel::stats`]): dune bodies, bare fraction, height range and
 //!   the exact sand balance; [`Bodies`] (from [`bodies`]): connected components of the cells
 //!   above a threshold (petgraph's union-find on the 8-neighbour torus of a
-//!   [`Lattice`](crate::lattice::Lattice));
+//!   [`Lattice`](crate::engine::lattice::Lattice));
 //! - [`DuneError`]: a parameter out of range, naming the parameter, its value and the range.
 //!
 //! [`study`] holds the error-against-run-time study; the figures (feature `plot`) are in
@@ -41,7 +41,7 @@
 //!
 //! # Choices made here
 //!
-//! - **Axes.** Cell `(x, y)` is `h[y * N + x]`, as in [`crate::lattice::Lattice`]. The
+//! - **Axes.** Cell `(x, y)` is `h[y * N + x]`, as in [`crate::engine::lattice::Lattice`]. The
 //!   article's first index `i` is `x`, the downwind direction: the wind blows towards `+x`
 //!   (left to right in the figures, as in the article), `y` is across the wind. Both axes are
 //!   periodic.
@@ -63,7 +63,7 @@
 //!   does nothing when `h <= 0`; the two differ only by the fraction of empty cells, which
 //!   the rolling rule keeps small. Picks over all cells (ripple mode, Werner) draw the cell
 //!   index uniformly from `0..N^2` (one draw, not one per axis).
-//! - **Random stream**: [`crate::sampler::stream`] (Xoshiro256++) seeded from `seed`; the
+//! - **Random stream**: [`crate::engine::rng::stream`] (Xoshiro256++) seeded from `seed`; the
 //!   initial field is drawn first, cell by cell in index order, then the picks.
 //!
 //! # The Werner (1995) variant
@@ -117,8 +117,8 @@ pub use plot::{
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// The crate version, written into every output.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+pub use crate::engine::VERSION;
 
 /// Grains per height unit: heights are held as integer grains, so the sand balance is exact.
 /// One height unit is one cell width.

@@ -14,12 +14,12 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
 use super::{BODY_THRESHOLD, DuneConfig, DuneModel, Mode, VERSION, above_threshold, bodies};
-use crate::figures::{Figure, FigureError};
-use crate::lattice::Lattice;
+use crate::engine::lattice::Lattice;
 use crate::plot::{
     self, CellField, Chart, GifWriter, Palette, PlotError, Series, check_picture_size, encode_png,
     ensure_fonts,
 };
+use crate::plot::{Figure, FigureError};
 
 /// The figures of this model, made by `cellsurf figures`.
 pub const FIGURES: &[Figure] = &[
@@ -301,7 +301,7 @@ pub fn draw_field(
         root.present().map_err(PlotError::drawing)?;
     }
     let png = encode_png(&buf, width, height)?;
-    crate::io::write_atomic(path, &png)?;
+    crate::engine::io::write_atomic(path, &png)?;
     Ok(())
 }
 

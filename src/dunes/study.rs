@@ -4,7 +4,7 @@
 //! rayon; each run is single-threaded and timed on its own, so its time is its CPU time and
 //! the results do not depend on the thread count), recording the observables as it goes.
 //! [`error_curve`] turns the runs into the seed-to-seed standard error of an observable's
-//! mean against the cumulative run time (the [`ConvergePoint`]s of [`crate::converge`]);
+//! mean against the cumulative run time (the engine's [`ConvergePoint`]s);
 //! [`evolution`] gives the mean and standard error of the dune bodies and the bare fraction
 //! against iterations.
 
@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{DuneConfig, DuneError, DuneModel, DuneStats};
-use crate::converge::{ConvergePoint, mean_and_se};
+use crate::engine::stats::{ConvergePoint, mean_and_se};
 
 /// One seed's run.
 #[derive(Clone, Debug, PartialEq, Serialize)]

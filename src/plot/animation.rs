@@ -195,7 +195,7 @@ impl GifWriter {
             .encoder
             .into_inner()
             .map_err(|e| PlotError::Encoding(e.to_string()))?;
-        crate::io::write_atomic(&self.path, &bytes)?;
+        crate::engine::io::write_atomic(&self.path, &bytes)?;
         Ok(())
     }
 }

@@ -126,7 +126,7 @@ pub fn line_charts(
         root.present().map_err(PlotError::drawing)?;
     }
     let png = encode_png(&buf, width, height)?;
-    crate::io::write_atomic(path, &png)?;
+    crate::engine::io::write_atomic(path, &png)?;
     Ok(())
 }
 

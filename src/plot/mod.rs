@@ -8,12 +8,14 @@
 //! - [`Series`] and [`Chart`]: line charts (optionally with markers and log axes), drawn as a grid
 //!   with legends into one PNG by [`line_charts`];
 //! - [`GifWriter`]: an animated GIF of successive [`CellField`] frames;
+//! - [`Figure`] and [`FigureError`]: a published figure that `cellsurf figures` regenerates;
+//!   every model lists its own, and the crate's figure registry gathers them;
 //! - [`PlotError`]: the error type of everything here.
 //!
 //! [`rasterize`] turns a field into RGB8 pixels; the lattice panels and the GIF frames both use
 //! it, so the figures and the animation look the same.
 //!
-//! Everything is drawn in memory and written with [`crate::io::write_atomic`], so a reader never
+//! Everything is drawn in memory and written with [`crate::engine::io::write_atomic`], so a reader never
 //! sees a partial file. Text uses the DejaVu Sans font bundled by the `dejavu` crate (registered
 //! with plotters on first use), so no system font library is needed.
 //!
@@ -27,6 +29,7 @@
 
 mod animation;
 mod charts;
+mod figure;
 mod panels;
 mod raster;
 #[cfg(test)]
@@ -34,6 +37,7 @@ mod tests;
 
 pub use animation::GifWriter;
 pub use charts::{Chart, Series, line_charts};
+pub use figure::{Figure, FigureError};
 pub use panels::{Panel, lattice_panels};
 pub use raster::{BACKGROUND, CellField, Palette, rasterize};
 
@@ -122,7 +126,7 @@ pub(crate) fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotErro
         let enc_err = |e: png::EncodingError| PlotError::Encoding(e.to_string());
         enc.add_text_chunk(
             "Software".to_string(),
-            format!("cellsurf {}", env!("CARGO_PKG_VERSION")),
+            format!("cellsurf {}", crate::engine::VERSION),
         )
         .map_err(enc_err)?;
         if let Some(p) = PNG_PARAMETERS.with(|m| m.borrow().clone()) {

@@ -165,7 +165,7 @@ pub fn lattice_panels(
         root.present().map_err(PlotError::drawing)?;
     }
     let png = encode_png(&buf, width, height)?;
-    crate::io::write_atomic(path, &png)?;
+    crate::engine::io::write_atomic(path, &png)?;
     Ok(())
 }
 

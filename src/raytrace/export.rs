@@ -1,5 +1,5 @@
 //! Files for established propagation codes and for analysis, written atomically
-//! ([`crate::io::write_atomic`]):
+//! ([`crate::engine::io::write_atomic`]):
 //!
 //! - [`bty_text`]: a BELLHOP bathymetry file (Acoustics Toolbox, "Altimetry or Bathymetry
 //!   File", `ATI_BTY_File.htm` of the BELLHOP documentation, oalib-acoustics.org): the
@@ -56,7 +56,7 @@ pub fn bty_text(floor: &Seafloor, params: &Params) -> String {
 }
 
 fn write(path: &Path, text: &str) -> Result<(), RaytraceError> {
-    crate::io::write_atomic(path, text.as_bytes()).map_err(|e| RaytraceError::Output {
+    crate::engine::io::write_atomic(path, text.as_bytes()).map_err(|e| RaytraceError::Output {
         path: path.display().to_string(),
         reason: e.to_string(),
     })

@@ -24,8 +24,8 @@ use super::{
     Fan, Insonification, InsonifyOptions, Ray, Seafloor, SectionLine, SoundSpeed, Table,
     TraceOptions, Tracer, VERSION, error_study, insonify,
 };
-use crate::figures::{Figure, FigureError};
 use crate::plot::{Chart, PlotError, Series, line_charts};
+use crate::plot::{Figure, FigureError};
 
 /// The figures.
 pub const FIGURES: &[Figure] = &[
@@ -202,7 +202,7 @@ fn fig5(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     }
     let png = crate::plot::encode_png(&buf, w, h)?;
     let path = dir.join("ripple_fig5_raytrace.png");
-    crate::io::write_atomic(&path, &png).map_err(PlotError::Io)?;
+    crate::engine::io::write_atomic(&path, &png).map_err(PlotError::Io)?;
     Ok(vec![path])
 }
 

@@ -43,15 +43,15 @@ pub use shadow::{
     Arrival, Fan, Insonification, InsonifyOptions, insonify, reflection_coefficient, visibility,
 };
 
-/// The crate version, recorded in every output.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+pub use crate::engine::VERSION;
 
 /// Seawater density used for the water impedance rho_w c_w, kg/m^3 (Soulsby 1997, PHYSICS.md).
 pub const RHO_WATER: f64 = 1027.0;
 
 /// The figures of the ray tracer, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
-pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+pub const FIGURES: &[crate::plot::Figure] = figures::FIGURES;
 
 /// Errors of the ray tracer: each names the parameter, the value and the valid range.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]

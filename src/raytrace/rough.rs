@@ -54,7 +54,7 @@ pub fn gaussian_surface(
         "m (2 dx to nx dx / 4)",
     )?;
     check_range("rms slope", rms_slope, 1e-6, 10.0, "")?;
-    let mut rng = crate::sampler::stream(seed);
+    let mut rng = crate::engine::rng::stream(seed);
     let tau = std::f64::consts::TAU;
     let kx = |i: usize, n: usize| {
         let m = if i <= n / 2 {

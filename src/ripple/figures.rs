@@ -14,8 +14,8 @@ use plotters::style::RGBColor;
 use super::output::{Field, run_recording, surface_field, volume_field, volume_levels};
 use super::spectrum::{Analysis, moore_average};
 use super::{Ripple, RippleParams};
-use crate::figures::{Figure, FigureError};
 use crate::plot::{CellField, Chart, Palette, Panel, Series, lattice_panels, line_charts};
+use crate::plot::{Figure, FigureError};
 
 /// The figure scene (the defaults: the paper's Fig. 3 situation).
 pub const FIG3_SCENE: &str = include_str!("../../scenarios/ripple_fig3.toml");

@@ -17,7 +17,7 @@
 use rand::RngExt;
 use rand_distr::{Distribution, Normal};
 
-use crate::sampler::Stream;
+use crate::engine::rng::Stream;
 
 /// Gravity, m/s^2.
 pub const G: f64 = 9.81;
@@ -188,7 +188,7 @@ mod tests {
     #[test]
     fn samples_are_centred_on_d50() {
         let c = GrainClasses::new(0.25, 0.5);
-        let mut rng = crate::sampler::stream(3);
+        let mut rng = crate::engine::rng::stream(3);
         let mut counts = vec![0u64; c.len()];
         for _ in 0..20000 {
             counts[c.sample(&mut rng) as usize] += 1;

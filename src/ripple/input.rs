@@ -60,7 +60,7 @@ pub fn describe(e: &netcdf3::ReadError) -> String {
         E::ParseHeader(_) => "not a NetCDF-3 file (its header cannot be read)".into(),
         E::IOErrorKind(k) => std::io::Error::from(*k).to_string(),
         E::VariableNotDefined(v) => format!("no variable '{v}'"),
-        other => crate::io::short(&format!("{other:?}")),
+        other => crate::engine::io::short(&format!("{other:?}")),
     }
 }
 

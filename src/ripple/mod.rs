@@ -45,12 +45,12 @@ pub use spectrum::Analysis;
 pub use volume::{Automaton, SandVolume};
 pub use water::{Flow, WaterVolume};
 
-/// The crate version, recorded in every output.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+pub use crate::engine::VERSION;
 
 /// The figures of this model, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
-pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+pub const FIGURES: &[crate::plot::Figure] = figures::FIGURES;
 
 /// Errors of the ripple model.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]

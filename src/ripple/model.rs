@@ -17,8 +17,8 @@ use super::grain::GrainClasses;
 use super::params::{Mode, RippleParams};
 use super::volume::{Automaton, SandVolume};
 use super::water::{Flow, WaterVolume};
-use crate::lattice::{Boundary, Lattice, Neighbourhood};
-use crate::sampler::{self, Stream};
+use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use crate::engine::rng::{self, Stream};
 
 /// Counters of a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -76,7 +76,7 @@ impl Ripple {
     /// initial porosity "average" (Table 5); then relaxed so that no slope exceeds alpha.
     pub fn new(p: &RippleParams) -> Result<Self, RippleError> {
         p.validate()?;
-        let mut rng = sampler::stream(p.seed);
+        let mut rng = rng::stream(p.seed);
         let r = p.roughness as i64;
         let heights: Vec<usize> = (0..p.nx * p.rows())
             .map(|_| {
@@ -92,7 +92,7 @@ impl Ripple {
     /// (the substrate, which never erodes).
     pub fn from_heights(p: &RippleParams, heights: &[usize]) -> Result<Self, RippleError> {
         p.validate()?;
-        let rng = sampler::stream(p.seed);
+        let rng = rng::stream(p.seed);
         Self::build(p, heights, rng)
     }
 

@@ -1,7 +1,7 @@
 //! [`OutputSpec`]: what a run writes, and the writers: NetCDF-3 (64-bit offset, CF-style
 //! names, units and attributes; every parameter and the version as global attributes) or one
 //! `.npy` file per field plus a JSON sidecar. Every file is written to a temporary sibling and
-//! renamed ([`crate::io`]).
+//! renamed ([`crate::engine::io`]).
 //!
 //! Variables: `elevation(time, y, x)` (m, bed height above the substrate at the snapshot
 //! steps) and the final volume fields `grain_size`, `porosity`, `density`, `sound_speed`,
@@ -230,7 +230,7 @@ pub fn surface_field(r: &Ripple, field: Field) -> Vec<Option<f64>> {
 fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     RippleError::Output {
         path: path.display().to_string(),
-        reason: crate::io::short(&format!("{e:?}")),
+        reason: crate::engine::io::short(&format!("{e:?}")),
     }
 }
 
@@ -396,8 +396,8 @@ pub fn write_netcdf(
     ds.add_global_attr_f64("automata", vec![r.automata() as f64])
         .map_err(|x| out_err(path, x))?;
 
-    crate::io::check_output("output", path).map_err(|x| io_err(path, x))?;
-    let tmp = crate::io::TempFile::new(path);
+    crate::engine::io::check_output("output", path).map_err(|x| io_err(path, x))?;
+    let tmp = crate::engine::io::TempFile::new(path);
     {
         let file = fs::File::create(tmp.path()).map_err(|x| io_err(path, x))?;
         let tmp_str = tmp.path().to_string_lossy().to_string();
@@ -516,7 +516,8 @@ pub fn write_npy(
             (vec![nz, ny, nx], volume_field(r, f, f32::NAN))
         };
         let path = file(&format!("_{}.npy", f.name()));
-        crate::io::write_atomic(&path, &npy_bytes(&shape, &data)).map_err(|e| io_err(&path, e))?;
+        crate::engine::io::write_atomic(&path, &npy_bytes(&shape, &data))
+            .map_err(|e| io_err(&path, e))?;
         let (units, long) = f.meta();
         let dims = if f == Field::Elevation {
             "[\"time\", \"y\", \"x\"]"
@@ -555,7 +556,7 @@ pub fn write_npy(
         params.join(",\n")
     );
     let side = file(".json");
-    crate::io::write_atomic(&side, json.as_bytes()).map_err(|e| io_err(&side, e))?;
+    crate::engine::io::write_atomic(&side, json.as_bytes()).map_err(|e| io_err(&side, e))?;
     written.push(side);
     Ok(written)
 }

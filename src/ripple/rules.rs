@@ -62,7 +62,7 @@ const SQ8: [(i32, i32); 8] = [
 
 impl Ripple {
     /// The column in octant `k` (0 = +x, counter-clockwise, the order of the engine's
-    /// [`crate::lattice::Neighbourhood::Square8`] offsets) of column `c`, wrapped on the torus
+    /// [`crate::engine::lattice::Neighbourhood::Square8`] offsets) of column `c`, wrapped on the torus
     /// (in 2-D only octants 0 and 4 exist).
     #[inline(always)]
     pub(crate) fn nb(&self, c: usize, k: usize) -> usize {

@@ -1,6 +1,6 @@
 //! [`SandVolume`]: the sand volume as columns of automata ("bins" of sand, paper Sect. 2).
 //!
-//! Column `c` (a cell of the engine's [`crate::lattice::Lattice`]) holds `height[c]`
+//! Column `c` (a cell of the engine's [`crate::engine::lattice::Lattice`]) holds `height[c]`
 //! automata stacked from the substrate (z = 0) upwards; each automaton is a `u16`
 //! ([`Automaton`]): its grain-size class in the low byte, its porosity code in the high byte.
 //! Storage is one flat array of `columns x capacity` automata plus a `u16` height per column,

@@ -15,8 +15,8 @@ use super::seam::SeamStats;
 use super::stream::RowSource;
 use super::tileset::tiles_from_run;
 use super::{Choose, DuneParams, Mosaic, RippledDunes, SeamMeter, Tile};
-use crate::figures::{Figure, FigureError};
 use crate::plot::{Chart, Palette, Panel, Series, lattice_panels, line_charts};
+use crate::plot::{Figure, FigureError};
 use crate::ripple::RippleParams;
 use crate::ripple::figures::{field, ramp_palette, range_of, to_states};
 

@@ -29,8 +29,8 @@ use rustfft::num_complex::Complex;
 
 use super::TileError;
 use super::seam::{SlopeAcc, SlopeStats};
+use crate::engine::rng;
 use crate::ripple::spectrum::fft2;
-use crate::sampler;
 
 /// The shape of the dune spectrum.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -156,7 +156,7 @@ fn amplitude(relief: Relief, kx: f64, ky: f64) -> f64 {
 /// rounding noise when the Hermitian symmetry holds), unscaled.
 pub(crate) fn synthesize_complex(p: &FbmParams) -> Vec<Complex<f64>> {
     let (nx, ny) = (p.nx, p.ny);
-    let mut rng = sampler::stream(p.seed);
+    let mut rng = rng::stream(p.seed);
     let mut buf = vec![Complex::new(0.0, 0.0); nx * ny];
     let (lx, ly) = (nx as f64 * p.dx, ny as f64 * p.dy);
     for j in 0..ny {
@@ -367,7 +367,7 @@ pub fn spectrum_slope(spec: &[(f64, f64)], kmin: f64, kmax: f64) -> Option<f64> 
     if pts.len() < 3 {
         return None;
     }
-    crate::cursor::stats::loglog_slope(&pts).map(|(slope, _)| slope)
+    crate::engine::stats::loglog_slope(&pts).map(|(slope, _)| slope)
 }
 
 /// The measured spectral slope of a dune field over the rings from 2 fundamental ring widths to

@@ -44,7 +44,7 @@ pub use tileset::Tile;
 
 /// The figures of the tiling and the fractal dunes, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
-pub const FIGURES: &[crate::figures::Figure] = figures::FIGURES;
+pub const FIGURES: &[crate::plot::Figure] = figures::FIGURES;
 
 /// Errors of tiling, fractal relief and streaming.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]

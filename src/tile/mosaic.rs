@@ -16,7 +16,7 @@ use super::TileError;
 use super::seam::edge_weights;
 use super::stream::RowSource;
 use super::tileset::{Tile, check_pool};
-use crate::sampler;
+use crate::engine::rng;
 
 /// Largest mosaic side in bins (NetCDF-3 dimensions are 32-bit signed).
 pub const MAX_SIDE: usize = i32::MAX as usize;
@@ -96,7 +96,7 @@ impl Mosaic {
         let grid: Vec<u32> = match choose {
             Choose::Same => vec![0; cells],
             Choose::Patches => {
-                let mut rng = sampler::stream(seed);
+                let mut rng = rng::stream(seed);
                 (0..cells)
                     .map(|_| rng.random_range(0..n.max(1)) as u32)
                     .collect()

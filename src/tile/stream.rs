@@ -311,8 +311,8 @@ fn write_netcdf_stream(
     )
     .map_err(|x| out_err(path, x))?;
 
-    // Listed while alive, so that an interrupted run removes it (crate::io).
-    let guard = crate::io::TempFile::new(path);
+    // Listed while alive, so that an interrupted run removes it (crate::engine::io).
+    let guard = crate::engine::io::TempFile::new(path);
     let tmp = guard.path().to_path_buf();
     let result = (|| -> Result<(), TileError> {
         let file = fs::File::create(&tmp).map_err(|x| out_err(path, x))?;
@@ -388,9 +388,11 @@ fn write_npy_stream(
         finals.push(named(&format!("_{}.npy", f.name())));
     }
     let side = named(".json");
-    // Listed while alive, so that an interrupted run removes them (crate::io).
-    let guards: Vec<crate::io::TempFile> =
-        finals.iter().map(|p| crate::io::TempFile::new(p)).collect();
+    // Listed while alive, so that an interrupted run removes them (crate::engine::io).
+    let guards: Vec<crate::engine::io::TempFile> = finals
+        .iter()
+        .map(|p| crate::engine::io::TempFile::new(p))
+        .collect();
     let temps: Vec<PathBuf> = guards.iter().map(|g| g.path().to_path_buf()).collect();
     let result = (|| -> Result<(), TileError> {
         let open = |p: &Path, shape: &[usize]| -> Result<BufWriter<fs::File>, TileError> {
@@ -489,7 +491,7 @@ fn write_npy_stream(
         fields.join(",\n"),
         params.join(",\n")
     );
-    crate::io::write_atomic(&side, json.as_bytes()).map_err(|x| out_err(&side, x))?;
+    crate::engine::io::write_atomic(&side, json.as_bytes()).map_err(|x| out_err(&side, x))?;
     finals.push(side);
     Ok(finals)
 }

@@ -13,25 +13,18 @@
 //! - [`SamplerKind::Ca`]: synchronous deterministic growth (Figs. 3 and 4): every surface
 //!   site with at least `b_min` occupied neighbours becomes occupied at once.
 //!
-//! Random numbers come from [`Stream`] (Xoshiro256++), seeded from the run's `--seed`.
+//! Random numbers come from the engine's [`Stream`] (Xoshiro256++), seeded from the run's
+//! `--seed`.
 
 use std::fmt;
 use std::str::FromStr;
 
-use rand::{RngExt, SeedableRng};
+use rand::RngExt;
 use rand_distr::Exp1;
-use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use crate::growth::Growth;
-
-/// The random stream of a run: Xoshiro256++ seeded through SplitMix64 from a `u64` seed.
-pub type Stream = Xoshiro256PlusPlus;
-
-/// The random stream for `seed` (the same seed gives the same sequence on every platform).
-pub fn stream(seed: u64) -> Stream {
-    Xoshiro256PlusPlus::seed_from_u64(seed)
-}
+use super::state::Growth;
+use crate::engine::rng::Stream;
 
 /// Which sampler advances the run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -153,7 +146,7 @@ impl Growth {
             self.time += 1.0;
             let slot = rng.random_range(0..s as u32) as usize;
             let cell = self.surface.site(slot) as usize;
-            let b = crate::growth::b_of(self.cells[cell]) as usize;
+            let b = super::state::b_of(self.cells[cell]) as usize;
             let mut p = self.rule.p(b);
             if !uniform {
                 p *= self.weight.at(&self.lattice, cell).unwrap_or(0.0);
@@ -329,8 +322,9 @@ impl Growth {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::{Boundary, Lattice, Neighbourhood};
-    use crate::rule::{Sticking, Weight};
+    use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+    use crate::engine::rng::stream;
+    use crate::growth::rule::{Sticking, Weight};
 
     fn flame(n: f64, size: usize, weight: Weight, per_site: bool) -> Growth {
         let l = Lattice::new(Neighbourhood::Hex, size, size, Boundary::TORUS).unwrap();

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use thiserror::Error;
 
-use crate::lattice::Lattice;
+use crate::engine::lattice::Lattice;
 
 /// Errors in the sticking rule's parameters.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -270,7 +270,7 @@ mod tests {
 
     #[test]
     fn custom_weight_out_of_range_is_an_error() {
-        use crate::lattice::{Boundary, Lattice, Neighbourhood};
+        use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
         let l = Lattice::new(Neighbourhood::Square4, 5, 5, Boundary::WALLS).unwrap();
         let w = Weight::Custom {
             centre: (2.0, 2.0),

@@ -44,7 +44,7 @@
 //! # Parallelism and reproducibility
 //!
 //! Particles are split into fixed chunks of [`CHUNK`] (by their index in memory); chunk `c`
-//! draws from its own Xoshiro256++ stream, [`crate::sampler::stream`]`(seed)` advanced by `c`
+//! draws from its own Xoshiro256++ stream, [`crate::engine::rng::stream`]`(seed)` advanced by `c`
 //! calls of `jump()` (2^128 draws each), for its initial positions and then, step after step,
 //! for its normals (`nu` then `nu'` per particle, in index order). The histogram is made of
 //! integer counts, whose sum does not depend on how the chunks are grouped. Every particle
@@ -214,7 +214,7 @@ impl WindParams {
         format!(
             "model = \"wind-ripples\"\nversion = \"{}\"\nsteps = {}\nparticles = {}\nbins = {}\n\
              hop = {:?}\nkappa = {:?}\ndiffusion = {:?}\nschedule = \"{}\"\nseed = {}\n",
-            env!("CARGO_PKG_VERSION"),
+            crate::engine::VERSION,
             self.steps,
             self.particles,
             self.bins,
@@ -350,7 +350,7 @@ impl WindRipples {
         let n = params.particles;
         let bins = params.bins;
         let n_chunks = n.div_ceil(CHUNK);
-        let mut base = crate::sampler::stream(params.seed);
+        let mut base = crate::engine::rng::stream(params.seed);
         let mut rngs = Vec::with_capacity(n_chunks);
         for _ in 0..n_chunks {
             rngs.push(base.clone());
@@ -836,13 +836,13 @@ pub fn npy_bytes(data: &[f64], shape: &[usize]) -> Vec<u8> {
 
 /// The figures of this model, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
-pub const FIGURES: &[crate::figures::Figure] = &[
-    crate::figures::Figure {
+pub const FIGURES: &[crate::plot::Figure] = &[
+    crate::plot::Figure {
         name: "windripples_height",
         about: "Wind ripples: the notebook's height field (default parameters, 256 steps), with its spectrum",
         make: figures::height_figure,
     },
-    crate::figures::Figure {
+    crate::plot::Figure {
         name: "windripples_error_vs_time",
         about: "Wind ripples: seed-to-seed standard error of height_std and wavelength against run time",
         make: figures::error_figure,
@@ -859,10 +859,10 @@ pub mod figures {
     use plotters::style::text_anchor::{HPos, Pos, VPos};
 
     use super::{WindParams, WindRun, WindStats, power_spectrum_y, run};
-    use crate::figures::FigureError;
+    use crate::plot::FigureError;
     use crate::plot::{self, Chart, PlotError, Series};
 
-    const VERSION: &str = env!("CARGO_PKG_VERSION");
+    use crate::engine::VERSION;
 
     /// Steps of the `windripples_height` figure: a quarter of the notebook's 1024, so that
     /// `cellsurf figures` stays quick (`cellsurf wind-ripples --out` draws the full run).
@@ -1043,7 +1043,7 @@ pub mod figures {
             root.present().map_err(PlotError::drawing)?;
         }
         let png = plot::encode_png(&buf, width, height)?;
-        crate::io::write_atomic(path, &png)?;
+        crate::engine::io::write_atomic(path, &png)?;
         Ok(())
     }
 
@@ -1152,13 +1152,13 @@ pub mod figures {
             if k >= 1 {
                 xs.push(time);
                 for (e, v) in se.iter_mut().zip(&values) {
-                    e.push(crate::converge::mean_and_se(v).1);
+                    e.push(crate::engine::stats::mean_and_se(v).1);
                 }
             }
         }
         // sd / sqrt(seeds), with the sd of all the seeds: the 1/sqrt(time) law.
         let guide = |v: &[f64]| {
-            let sd = crate::converge::mean_and_se(v).1 * (v.len() as f64).sqrt();
+            let sd = crate::engine::stats::mean_and_se(v).1 * (v.len() as f64).sqrt();
             let per_seed = time / v.len() as f64;
             Series {
                 label: "sd of all seeds / sqrt(seeds): 1/sqrt(time)".into(),
@@ -1168,7 +1168,7 @@ pub mod figures {
             }
         };
         let [se_std, se_peak, se_mean] = se;
-        let mean_of = |v: &[f64]| crate::converge::mean_and_se(v).0;
+        let mean_of = |v: &[f64]| crate::engine::stats::mean_and_se(v).0;
         let charts = [
             Chart {
                 title: format!("height_std = {:.4}", mean_of(&values[0])),

@@ -6,16 +6,16 @@
 //! counts of its neighbours and the surface incrementally in `O(z)`.
 //!
 //! The clock ([`Growth::time`]) counts Monte Carlo timesteps as the paper does: one pick of a
-//! surface site, accepted or not. The samplers that advance it live in [`crate::sampler`].
+//! surface site, accepted or not. The samplers that advance it live in [`crate::growth::sampler`].
 //!
 //! Memory: 4 bytes per cell (state and slot in one word), plus 4 bytes per surface site, plus 16 bytes per surface slot when a non-uniform weight is sampled exactly.
 
 use thiserror::Error;
 
-use crate::lattice::Lattice;
-use crate::rule::{RuleError, Sticking, Weight};
-use crate::sumtree::SumTree;
-use crate::surface::{SlotListener, Surface};
+use crate::engine::lattice::Lattice;
+use crate::engine::sumtree::SumTree;
+use crate::engine::surface::{SlotListener, Surface};
+use crate::growth::rule::{RuleError, Sticking, Weight};
 
 /// State value of an occupied cell; empty cells hold their occupied-neighbour count.
 pub const OCCUPIED: u8 = u8::MAX;
@@ -463,7 +463,7 @@ impl Growth {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::{Boundary, Neighbourhood};
+    use crate::engine::lattice::{Boundary, Neighbourhood};
 
     #[test]
     fn occupying_updates_counts_and_surface() {

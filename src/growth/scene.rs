@@ -16,14 +16,14 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::engine::lattice::{Boundary, Lattice, LatticeError, Neighbourhood};
+use crate::growth::observe::{self, ColumnProfile};
+use crate::growth::rule::{RuleError, Sticking, Weight};
+use crate::growth::sampler::{Outcome, SamplerKind};
 use crate::growth::{Growth, GrowthError};
-use crate::lattice::{Boundary, Lattice, LatticeError, Neighbourhood};
-use crate::observe::{self, ColumnProfile};
-use crate::rule::{RuleError, Sticking, Weight};
-use crate::sampler::{self, Outcome, SamplerKind};
 
-/// The version of cellsurf, recorded in every output.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+pub use crate::engine::VERSION;
 
 /// The scenes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -598,7 +598,7 @@ pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, Sce
     let setup_s = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let steps = cfg.steps as f64;
-    let mut rng = sampler::stream(cfg.seed);
+    let mut rng = crate::engine::rng::stream(cfg.seed);
 
     // Checkpoints: snapshots, series points, progress ticks and frames.
     let series_times: Vec<f64> = (1..=cfg.series as u64)
@@ -668,7 +668,12 @@ pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, Sce
 }
 
 /// Advances the run to time `limit` with the configured sampler.
-fn advance(cfg: &SceneConfig, g: &mut Growth, rng: &mut sampler::Stream, limit: f64) -> Outcome {
+fn advance(
+    cfg: &SceneConfig,
+    g: &mut Growth,
+    rng: &mut crate::engine::rng::Stream,
+    limit: f64,
+) -> Outcome {
     if g.time() >= limit {
         return Outcome::Limit;
     }

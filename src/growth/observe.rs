@@ -129,8 +129,8 @@ impl ColumnProfile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lattice::{Boundary, Lattice, Neighbourhood};
-    use crate::rule::{Sticking, Weight};
+    use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+    use crate::growth::rule::{Sticking, Weight};
 
     fn empty(hood: Neighbourhood, w: usize, h: usize, b: Boundary) -> Growth {
         let l = Lattice::new(hood, w, h, b).unwrap();

@@ -7,21 +7,10 @@
 
 use serde::Serialize;
 
-use crate::sampler::SamplerKind;
-use crate::scene::{self, NoHooks, Observables, SceneConfig, SceneError, SceneKind};
+use crate::engine::stats::{ConvergePoint, mean_and_se};
 
-/// One point of a [`ConvergeCurve`].
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ConvergePoint {
-    /// Seeds run so far.
-    pub seeds: usize,
-    /// Cumulative run time, seconds (single thread: wall time of the runs, set-up included).
-    pub cpu_s: f64,
-    /// Mean of the observable over the seeds.
-    pub mean: f64,
-    /// Standard error of that mean: sample standard deviation / sqrt(seeds).
-    pub std_error: f64,
-}
+use crate::growth::sampler::SamplerKind;
+use crate::growth::scene::{self, NoHooks, Observables, SceneConfig, SceneError, SceneKind};
 
 /// Standard error against run time for one scene, sampler and observable.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -86,17 +75,6 @@ pub fn converge(
     })
 }
 
-/// Mean and standard error of the mean (sample standard deviation / sqrt(m)).
-pub fn mean_and_se(v: &[f64]) -> (f64, f64) {
-    let m = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / m;
-    if v.len() < 2 {
-        return (mean, f64::NAN);
-    }
-    let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (m - 1.0);
-    (mean, (var / m).sqrt())
-}
-
 /// The growth study: the flame (n = 2 and the stiffer n = 8), the deposition and the crystal,
 /// each with both stochastic samplers, `seeds` seeds each.
 pub fn converge_growth(seeds: usize) -> Result<Vec<ConvergeCurve>, SceneError> {
@@ -128,14 +106,6 @@ pub fn converge_growth(seeds: usize) -> Result<Vec<ConvergeCurve>, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn standard_error_of_the_mean() {
-        let (m, se) = mean_and_se(&[1.0, 2.0, 3.0, 4.0]);
-        assert_eq!(m, 2.5);
-        // sample variance 5/3, se = sqrt(5/12)
-        assert!((se - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
-    }
 
     #[test]
     fn curve_has_a_point_per_seed_and_growing_time() {

@@ -1,0 +1,59 @@
+//! `cellsurf figures`: regenerates the published figures of every model into a folder.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use cellsurf::figures;
+
+#[derive(Args)]
+pub struct FiguresArgs {
+    /// Make only this figure (see --list).
+    #[arg(long, value_name = "NAME")]
+    only: Option<String>,
+    /// Folder to write into.
+    #[arg(long, default_value = "figures")]
+    out_dir: PathBuf,
+    /// List the figures and exit.
+    #[arg(long)]
+    list: bool,
+}
+
+pub fn run(a: FiguresArgs) -> Result<()> {
+    if a.list {
+        for f in figures::all() {
+            println!("{:24} {}", f.name, f.about);
+        }
+        return Ok(());
+    }
+    let chosen: Vec<_> = match &a.only {
+        Some(name) => {
+            let f = figures::all().find(|f| f.name == name.as_str());
+            match f {
+                Some(f) => vec![f],
+                None => bail!(
+                    "--only '{name}' is not a figure; expected one of: {}",
+                    figures::all()
+                        .map(|f| f.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            }
+        }
+        None => figures::all().collect(),
+    };
+    let t0 = Instant::now();
+    for f in chosen {
+        let t = Instant::now();
+        let files = f
+            .make(&a.out_dir)
+            .with_context(|| format!("figure {}", f.name))?;
+        for p in files {
+            println!("{}  ({:.2} s)", p.display(), t.elapsed().as_secs_f64());
+        }
+    }
+    println!("all figures in {:.1} s", t0.elapsed().as_secs_f64());
+    Ok(())
+}

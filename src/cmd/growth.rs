@@ -1,0 +1,435 @@
+//! The growth subcommands: `flame`, `deposit`, `crystal`, `ca`, `grow` (one scene each, or any
+//! configuration) and `converge growth` (error against run time).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use cellsurf::engine::VERSION;
+use cellsurf::engine::io::write_atomic;
+use cellsurf::engine::lattice::{Boundary, Neighbourhood};
+use cellsurf::growth::Growth;
+use cellsurf::growth::converge;
+use cellsurf::growth::figures;
+use cellsurf::growth::sampler::SamplerKind;
+use cellsurf::growth::scene::{
+    self, RunHooks, RunResult, SceneConfig, SceneKind, Shape, WeightKind,
+};
+use cellsurf::plot::{CellField, GifWriter, Palette};
+
+#[derive(Args, Clone)]
+pub struct GrowArgs {
+    /// Scenario file (TOML) to start from instead of the scene's defaults.
+    #[arg(long, value_name = "FILE")]
+    scenario: Option<PathBuf>,
+    /// Lattice: hex (6 neighbours, Eq. 3), square4 (Eq. 2) or square8 (Moore).
+    #[arg(long)]
+    lattice: Option<Neighbourhood>,
+    /// Lattice size in cells: W or WxH (rows must be even on a hex torus).
+    #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
+    size: Option<(usize, usize)>,
+    /// Boundary: torus, walls, channel (periodic x, walls y) or tube (walls x, periodic y).
+    #[arg(long)]
+    boundary: Option<Boundary>,
+    /// Power-law exponent n >= 0 of p = v (b/z)^n.
+    #[arg(long, allow_negative_numbers = true)]
+    n: Option<f64>,
+    /// Direction weight v: none (v = 1) or axes (Eq. 5).
+    #[arg(long)]
+    weight: Option<WeightKind>,
+    /// Initial shape: point, square, disc, cosine or flat.
+    #[arg(long)]
+    shape: Option<Shape>,
+    /// Size of the initial shape in cell widths: square side, disc diameter, cosine amplitude,
+    /// flat thickness.
+    #[arg(long, allow_negative_numbers = true)]
+    start: Option<f64>,
+    /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Timesteps of the snapshots drawn by --out, comma-separated and increasing.
+    #[arg(long, value_delimiter = ',')]
+    snapshots: Option<Vec<u64>>,
+    /// Sampler: exact (rejection-free, same process and clock), rejection (the paper's) or ca.
+    #[arg(long)]
+    sampler: Option<SamplerKind>,
+    /// CA: minimum occupied neighbours for growth, cycled over timesteps (1 = Fig. 3; 1,2 = Fig. 4).
+    #[arg(long, value_delimiter = ',')]
+    ca_rule: Option<Vec<usize>>,
+    /// Seed of the random stream (the same seed gives the same output).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Number of evenly spaced times at which observables are recorded (for --csv).
+    #[arg(long)]
+    series: Option<usize>,
+    /// Write the snapshots as a PNG figure.
+    #[arg(long, value_name = "FILE.png")]
+    out: Option<PathBuf>,
+    /// Write the observable time series as CSV (with the parameters in '#' header lines).
+    #[arg(long, value_name = "FILE.csv")]
+    csv: Option<PathBuf>,
+    /// Write an animated GIF of the growth.
+    #[arg(long, value_name = "FILE.gif")]
+    gif: Option<PathBuf>,
+    /// Frames in the GIF.
+    #[arg(long, default_value_t = 60)]
+    gif_frames: usize,
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+    /// Print the configuration as a scenario file and exit.
+    #[arg(long)]
+    print_scenario: bool,
+}
+
+#[derive(Args)]
+pub struct ConvergeArgs {
+    /// Which study: growth (flame, deposition, crystal; both samplers).
+    #[arg(value_parser = ["growth"])]
+    study: String,
+    /// Independent seeds per curve (at least 3).
+    #[arg(long, default_value_t = figures::CONVERGE_SEEDS)]
+    seeds: usize,
+    /// Figure to write.
+    #[arg(long, default_value = "figures/growth_error_vs_time.png")]
+    out: PathBuf,
+    /// Print the curves as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("'{s}' is not a size: expected W or WxH with whole numbers, e.g. 200x230");
+    let (w, h) = match s.split_once(['x', 'X']) {
+        Some((w, h)) => (w, h),
+        None => (s, s),
+    };
+    let w: usize = w.trim().parse().map_err(|_| bad())?;
+    let h: usize = h.trim().parse().map_err(|_| bad())?;
+    Ok((w, h))
+}
+
+/// The configuration: scenario file or scene defaults, then each given option.
+fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
+    let mut c = match &a.scenario {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read --scenario {}", p.display()))?;
+            let c = SceneConfig::from_toml(&text)
+                .with_context(|| format!("in --scenario {}", p.display()))?;
+            if c.scene != scene {
+                bail!(
+                    "--scenario {} is a '{}' scene, not '{}': run `cellsurf {}`",
+                    p.display(),
+                    c.scene,
+                    scene,
+                    c.scene
+                );
+            }
+            c
+        }
+        None => SceneConfig::defaults(scene),
+    };
+    if let Some(v) = a.lattice {
+        c.lattice = v;
+    }
+    if let Some((w, h)) = a.size {
+        c.width = w;
+        c.height = h;
+    }
+    if let Some(v) = a.boundary {
+        c.boundary = v;
+    }
+    if let Some(v) = a.n {
+        c.n = v;
+    }
+    if let Some(v) = a.weight {
+        c.weight = v;
+    }
+    if let Some(v) = a.shape {
+        c.shape = v;
+    }
+    if let Some(v) = a.start {
+        c.start = v;
+    }
+    if let Some(v) = a.steps {
+        c.steps = v;
+        // Default snapshots that no longer fit are thinned to those within the run.
+        if a.snapshots.is_none() && a.scenario.is_none() {
+            c.snapshots.retain(|&t| t <= v);
+            if c.snapshots.last() != Some(&v) {
+                c.snapshots.push(v);
+            }
+        }
+    }
+    if let Some(v) = &a.snapshots {
+        c.snapshots = v.clone();
+    }
+    if let Some(v) = a.sampler {
+        c.sampler = v;
+    }
+    if let Some(v) = &a.ca_rule {
+        c.ca_rule = v.clone();
+    }
+    if let Some(v) = a.seed {
+        c.seed = v;
+    }
+    if let Some(v) = a.series {
+        c.series = v;
+    }
+    if a.gif_frames == 0 || a.gif_frames > 2000 {
+        bail!("--gif-frames = {} is out of range: 1 to 2000", a.gif_frames);
+    }
+    c.validate()?;
+    Ok(c)
+}
+
+fn palette(scene: SceneKind) -> Palette {
+    match scene {
+        SceneKind::Flame => Palette::flame(),
+        SceneKind::Deposit => Palette::solid(),
+        SceneKind::Crystal => Palette::crystal(),
+        _ => Palette::default(),
+    }
+}
+
+struct CliHooks {
+    bar: ProgressBar,
+    shown: bool,
+    silent: bool,
+    start: Instant,
+    frames: Vec<f64>,
+    gif: Option<GifWriter>,
+    gif_error: Option<anyhow::Error>,
+    hex: bool,
+}
+
+impl RunHooks for CliHooks {
+    fn progress(&mut self, time: f64, steps: f64) {
+        if !self.silent && !self.shown && self.start.elapsed().as_secs_f64() > 1.0 {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        self.bar.set_position((time / steps * 1000.0) as u64);
+    }
+    fn frame_times(&self) -> Vec<f64> {
+        self.frames.clone()
+    }
+    fn frame(&mut self, _time: f64, g: &Growth) {
+        if let Some(gif) = self.gif.as_mut() {
+            let l = g.lattice();
+            let field = CellField {
+                nx: l.width(),
+                ny: l.height(),
+                hex: self.hex,
+                states: g.field_states(),
+            };
+            if let Err(e) = gif.add_frame(&field) {
+                self.gif_error.get_or_insert(e.into());
+            }
+        }
+    }
+}
+
+pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
+    let cfg = config(scene, &a)?;
+    if a.print_scenario {
+        print!("{}", cfg.to_toml());
+        return Ok(());
+    }
+    let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message(format!("{scene} {}x{}", cfg.width, cfg.height));
+    let gif = match &a.gif {
+        Some(p) => Some(GifWriter::create(
+            p,
+            cfg.width,
+            cfg.height,
+            cfg.lattice.is_hex(),
+            480,
+            &palette(scene),
+            8,
+        )?),
+        None => None,
+    };
+    let frames = if gif.is_some() {
+        let k = a.gif_frames.max(1) as u64;
+        (0..=k)
+            .map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut hooks = CliHooks {
+        bar,
+        shown: false,
+        silent: a.quiet || a.json,
+        start: Instant::now(),
+        frames,
+        gif,
+        gif_error: None,
+        hex: cfg.lattice.is_hex(),
+    };
+    let r = scene::run(&cfg, &mut hooks)?;
+    hooks.bar.finish_and_clear();
+    if let Some(e) = hooks.gif_error.take() {
+        return Err(e.context("writing --gif"));
+    }
+    if let (Some(gif), Some(p)) = (hooks.gif.take(), &a.gif) {
+        gif.finish()
+            .with_context(|| format!("writing --gif {}", p.display()))?;
+    }
+    cellsurf::plot::set_png_parameters(Some(cfg.to_toml()));
+    if let Some(p) = &a.out {
+        if r.snapshots.is_empty() {
+            bail!("--out needs at least one snapshot (--snapshots)");
+        }
+        figures::draw_snapshots(
+            p,
+            &format!("{scene}: {}", figures::describe(&cfg)),
+            &r,
+            &palette(scene),
+        )
+        .with_context(|| format!("writing --out {}", p.display()))?;
+    }
+    if let Some(p) = &a.csv {
+        write_csv(p, &r).with_context(|| format!("writing --csv {}", p.display()))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string(&summary(&r))?);
+    } else {
+        print_summary(&r);
+    }
+    Ok(())
+}
+
+/// Peak resident memory of this process, bytes (Linux; `None` elsewhere).
+fn peak_rss_bytes() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+fn summary(r: &RunResult) -> serde_json::Value {
+    let c = &r.config;
+    let mut v = serde_json::json!({
+        "scene": c.scene.name(),
+        "steps": if r.last.time.is_finite() { serde_json::json!(r.last.time) } else { serde_json::Value::Null },
+        "clock_finite": r.last.time.is_finite(),
+        "accepted": r.last.accepted,
+        "occupied": r.last.occupied,
+        "surface_sites": r.last.surface,
+        "stop_reason": r.stop,
+        "elapsed_s": r.elapsed_s,
+        "setup_s": r.setup_s,
+        "accepted_per_s": r.last.accepted as f64 / r.elapsed_s.max(1e-12),
+        "memory_bytes": r.memory_bytes,
+        "bytes_per_cell": r.memory_bytes as f64 / (c.width * c.height) as f64,
+        "peak_rss_bytes": peak_rss_bytes(),
+        "version": VERSION,
+        "parameters": c,
+    });
+    if let (Some(obj), Ok(serde_json::Value::Object(o))) =
+        (v.as_object_mut(), serde_json::to_value(r.last.values))
+    {
+        obj.extend(o);
+    }
+    v
+}
+
+fn print_summary(r: &RunResult) {
+    let c = &r.config;
+    println!(
+        "cellsurf {VERSION}: {} on {}",
+        c.scene,
+        figures::describe(c)
+    );
+    println!(
+        "  timesteps {}  accepted {}  occupied {}  surface sites {}  ({:?})",
+        r.last.time, r.last.accepted, r.last.occupied, r.last.surface, r.stop
+    );
+    let v = r.last.values;
+    for (name, x) in [
+        ("front_radius_cv", v.front_radius_cv),
+        ("axis_diagonal_ratio", v.axis_diagonal_ratio),
+        ("mode1_amplitude", v.mode1_amplitude),
+        ("mean_elevation", v.mean_elevation),
+    ] {
+        if let Some(x) = x {
+            println!("  {name} = {x:.4}");
+        }
+    }
+    println!("  run {:.3} s, set-up {:.3} s", r.elapsed_s, r.setup_s);
+}
+
+fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
+    let mut s = String::new();
+    s.push_str(&format!("# cellsurf {VERSION}\n"));
+    for line in r.config.to_toml().lines() {
+        s.push_str(&format!("# {line}\n"));
+    }
+    s.push_str("time,accepted,occupied,surface_sites,front_radius_cv,axis_diagonal_ratio,mode1_amplitude,mean_elevation\n");
+    let f = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x}"));
+    for o in &r.series {
+        let v = o.values;
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{}\n",
+            o.time,
+            o.accepted,
+            o.occupied,
+            o.surface,
+            f(v.front_radius_cv),
+            f(v.axis_diagonal_ratio),
+            f(v.mode1_amplitude),
+            f(v.mean_elevation)
+        ));
+    }
+    write_atomic(path, s.as_bytes())
+}
+
+pub fn converge(a: ConvergeArgs) -> Result<()> {
+    if a.seeds < 3 || a.seeds > 10_000 {
+        bail!("--seeds = {} is out of range: 3 to 10000", a.seeds);
+    }
+    let curves = converge::converge_growth(a.seeds)?;
+    if let Some(dir) = a.out.parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir)?;
+        }
+    }
+    figures::draw_error_vs_time(&a.out, &curves)?;
+    if a.json {
+        println!("{}", serde_json::to_string(&curves)?);
+        return Ok(());
+    }
+    println!(
+        "{:14} {:10} {:20} {:>10} {:>12} {:>12}",
+        "case", "sampler", "observable", "mean", "std error", "run time s"
+    );
+    for c in &curves {
+        if let Some(p) = c.points.last() {
+            println!(
+                "{:14} {:10} {:20} {:>10.5} {:>12.3e} {:>12.3}",
+                c.label,
+                c.sampler.name(),
+                c.observable,
+                p.mean,
+                p.std_error,
+                p.cpu_s
+            );
+        }
+    }
+    println!("wrote {}", a.out.display());
+    Ok(())
+}

@@ -1,0 +1,31 @@
+//! The engine every model is built on: lattices, the surface partition, the sum tree, the
+//! random stream, shared statistics and atomic output.
+//!
+//! - [`lattice`]: [`Lattice`](lattice::Lattice), a `width x height` grid with a
+//!   [`Neighbourhood`](lattice::Neighbourhood) (square 4-neighbour, Eq. (2) of the growth
+//!   paper; square 8-neighbour Moore; hexagonal 6-neighbour, Eq. (3)) and a
+//!   [`Boundary`](lattice::Boundary) per axis (torus or walls). Models take their neighbour
+//!   offsets from here ([`lattice::MOORE`] for the 8-neighbour models).
+//! - [`surface`]: [`Surface`](surface::Surface), the surface sites partitioned by their count
+//!   of occupied neighbours (the growth samplers' `O(1)` picks).
+//! - [`sumtree`]: [`SumTree`](sumtree::SumTree), partial sums for weighted selection.
+//! - [`rng`]: [`Stream`](rng::Stream), the Xoshiro256++ stream every model draws from.
+//! - [`stats`]: mean and standard error over seeds, error-against-run-time points, power-law
+//!   slopes.
+//! - [`io`]: [`write_atomic`](io::write_atomic) and the output checks: no reader ever sees a
+//!   partial file.
+//!
+//! The engine imports nothing else of the crate; everything else imports it.
+//!
+//! Equations (2) and (3) are those of "Simple Monte Carlo cellular models for surface growth"
+//! (the growth paper).
+
+pub mod io;
+pub mod lattice;
+pub mod rng;
+pub mod stats;
+pub mod sumtree;
+pub mod surface;
+
+/// The crate version, recorded in every output file.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
