@@ -3,33 +3,18 @@
 
 use rand::RngExt;
 
+use super::grid;
 use super::measure::{self, DuneStats};
 use super::werner::WernerState;
 use super::{
-    DUNE_PICK_FRACTION, DuneConfig, DuneError, GRAINS_PER_UNIT, Mode, RIPPLE_INITIAL, RIPPLE_Q,
-    jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains, to_units,
+    DUNE_PICK_FRACTION, DuneConfig, DuneError, GRAINS_PER_UNIT, Mode, PickEvent, RIPPLE_INITIAL,
+    RIPPLE_Q, jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains, to_units,
 };
 use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
 use crate::engine::rng::{Stream, stream};
 
 /// Marks a cell that is not in the set of cells holding sand.
 const ABSENT: u32 = u32::MAX;
-
-/// What one pick did.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PickEvent {
-    /// The picked cell (`y * N + x`).
-    pub from: usize,
-    /// The cell that received the sand (equal to `from` when nothing moved).
-    pub to: usize,
-    /// Cells travelled downwind before wrapping: the jump of the article's laws (may exceed
-    /// `N`, or be negative in ripple mode with a negative wind); in Werner mode the total of
-    /// the hops.
-    pub jump: i64,
-    /// Grains moved (0 when nothing moved: an empty cell, or a Werner cell without a slab or
-    /// in a shadow zone).
-    pub grains: u64,
-}
 
 /// The slab engine: heights as integer grains on an `N x N` torus, advanced by the rules of
 /// a [`Mode`].
@@ -237,61 +222,31 @@ impl DuneModel {
     /// The observables now (see [`DuneStats`]), with the body threshold
     /// [`BODY_THRESHOLD`](super::BODY_THRESHOLD).
     pub fn stats(&self) -> DuneStats {
-        measure::stats(self, super::BODY_THRESHOLD)
+        self.stats_with_threshold(super::BODY_THRESHOLD)
     }
 
     /// The observables now, with dune bodies made of the cells higher than `threshold`
     /// height units.
     pub fn stats_with_threshold(&self, threshold: f64) -> DuneStats {
-        measure::stats(self, threshold)
+        measure::stats(
+            &self.h,
+            &self.lattice,
+            self.iteration,
+            self.sand_change(),
+            threshold,
+        )
     }
 
-    /// `(x, row start)` of cell `c`: `x = c mod N`, `row = c - x` (32-bit division: the grid
-    /// has at most 4096^2 cells).
+    /// `(x, row start)` of cell `c` ([`grid::split`]).
     #[inline(always)]
     pub(super) fn split(&self, c: usize) -> (usize, usize) {
-        let x = (c as u32 % self.n as u32) as usize;
-        (x, c - x)
+        grid::split(self.n, c)
     }
 
-    /// The 8 neighbours of the cell in column `x` of the row starting at `row`, in the
-    /// order of [`Neighbourhood::offsets`] for `Square8` (edge neighbours at even positions,
-    /// diagonal ones at odd), as `(cell, column, row start)`; no division.
-    #[inline(always)]
-    pub(super) fn moore(&self, x: usize, row: usize) -> [(usize, usize, usize); 8] {
-        let n = self.n;
-        let cells = n * n;
-        let xm = if x == 0 { n - 1 } else { x - 1 };
-        let xp = if x + 1 == n { 0 } else { x + 1 };
-        let rm = if row == 0 { cells - n } else { row - n };
-        let rp = if row + n == cells { 0 } else { row + n };
-        [
-            (row + xp, xp, row),
-            (rp + xp, xp, rp),
-            (rp + x, x, rp),
-            (rp + xm, xm, rp),
-            (row + xm, xm, row),
-            (rm + xm, xm, rm),
-            (rm + x, x, rm),
-            (rm + xp, xp, rm),
-        ]
-    }
-
-    /// Column `jump` cells downwind of column `x` (wrapping, any `jump`).
+    /// Column `jump` cells downwind of column `x` ([`grid::downwind_x`]).
     #[inline(always)]
     pub(super) fn downwind_x(&self, x: usize, jump: i64) -> usize {
-        let n = self.n;
-        // Jumps are mostly shorter than the grid: no division then.
-        let j = if (0..n as i64).contains(&jump) {
-            jump as usize
-        } else {
-            jump.rem_euclid(n as i64) as usize
-        };
-        let mut nx = x + j;
-        if nx >= n {
-            nx -= n;
-        }
-        nx
+        grid::downwind_x(self.n, x, jump)
     }
 
     /// Cell `jump` cells downwind of `c` (wrapping, any `jump`).
@@ -460,6 +415,47 @@ impl DuneModel {
         let left = self.cfg.iterations.saturating_sub(self.iteration);
         self.run(left);
     }
+
+    /// Werner mode's pick ([`WernerState::pick`]).
+    fn pick_werner(&mut self) -> PickEvent {
+        let w = self
+            .werner
+            .as_mut()
+            .expect("Werner state exists in Werner mode");
+        w.pick(&mut self.h, self.n, &mut self.rng)
+    }
+
+    /// Werner mode: relaxes the whole grid to the angle of repose.
+    fn relax_all(&mut self) {
+        if let Some(w) = self.werner.as_mut() {
+            w.relax_all(&mut self.h, self.n, &self.lattice);
+        }
+    }
+
+    /// Werner mode: recomputes the row bounds of the shadow test.
+    fn refresh_row_max(&mut self) {
+        if let Some(w) = self.werner.as_mut() {
+            w.refresh_row_max(&self.h, self.n);
+        }
+    }
+
+    /// True when cell `c` lies in the shadow zone of an upwind cell: some cell `k` cells
+    /// upwind (same row, `0 < k < N`) is higher by more than `k tan(15 deg)` cell widths.
+    /// Always false outside Werner mode.
+    pub fn in_shadow(&self, c: usize) -> bool {
+        let (x, row) = self.split(c);
+        self.werner
+            .as_ref()
+            .is_some_and(|w| w.in_shadow_at(&self.h, self.n, x, row))
+    }
+
+    /// True when every neighbour pair is within the angle of repose (Werner mode; always
+    /// true in the other modes).
+    pub fn within_repose(&self) -> bool {
+        self.werner
+            .as_ref()
+            .is_none_or(|w| w.within_repose(&self.h, self.n, &self.lattice))
+    }
 }
 
 #[cfg(test)]
@@ -476,13 +472,13 @@ mod tests {
             .unwrap();
             for c in 0..n * n {
                 let (x, row) = m.split(c);
-                let mine: Vec<u32> = m.moore(x, row).iter().map(|t| t.0 as u32).collect();
+                let mine: Vec<u32> = grid::moore(m.n, x, row).iter().map(|t| t.0 as u32).collect();
                 assert_eq!(
                     mine,
                     m.lattice.neighbour_list(c).as_slice(),
                     "n {n} cell {c}"
                 );
-                for &(nb, nx, nrow) in &m.moore(x, row) {
+                for &(nb, nx, nrow) in &grid::moore(m.n, x, row) {
                     assert_eq!(nb, nrow + nx);
                     assert_eq!(m.split(nb), (nx, nrow));
                 }

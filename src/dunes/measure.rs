@@ -4,7 +4,6 @@
 use petgraph::unionfind::UnionFind;
 use serde::Serialize;
 
-use super::engine::DuneModel;
 use super::{GRAINS_PER_UNIT, to_units};
 use crate::engine::lattice::{Edge, Lattice};
 
@@ -171,15 +170,23 @@ pub fn above_threshold(h: &[u64], threshold: f64) -> Vec<bool> {
     h.iter().map(|&v| v as f64 > t).collect()
 }
 
-pub(super) fn stats(m: &DuneModel, threshold: f64) -> DuneStats {
-    let h = m.grains();
+/// The observables of the heights `h` (grains) on `lattice` after `iteration` iterations, with
+/// `sand_change` grains gained since the start and bodies made of the cells higher than
+/// `threshold` height units.
+pub(super) fn stats(
+    h: &[u64],
+    lattice: &Lattice,
+    iteration: u64,
+    sand_change: i128,
+    threshold: f64,
+) -> DuneStats {
     let cells = h.len();
     let inside = above_threshold(h, threshold);
-    let b = bodies(&inside, m.lattice());
+    let b = bodies(&inside, lattice);
     let bare = inside.iter().filter(|&&i| !i).count();
-    let total = m.total_grains();
+    let total: u64 = h.iter().sum();
     DuneStats {
-        iteration: m.iteration(),
+        iteration,
         mean_height: to_units(total) / cells as f64,
         min_height: to_units(h.iter().copied().min().unwrap_or(0)),
         max_height: to_units(h.iter().copied().max().unwrap_or(0)),
@@ -189,6 +196,6 @@ pub(super) fn stats(m: &DuneModel, threshold: f64) -> DuneStats {
         bare_fraction: bare as f64 / cells as f64,
         largest_body_fraction: b.largest() as f64 / cells as f64,
         total_grains: total,
-        sand_change: m.sand_change() as i64,
+        sand_change: sand_change as i64,
     }
 }

@@ -100,13 +100,14 @@
 //! [`DuneModel::stats_with_threshold`] takes another threshold.
 
 mod engine;
+mod grid;
 mod measure;
 #[cfg(feature = "plot")]
 mod plot;
 pub mod study;
 mod werner;
 
-pub use engine::{DuneModel, PickEvent};
+pub use engine::DuneModel;
 pub use measure::{Bodies, DuneStats, above_threshold, bodies};
 #[cfg(feature = "plot")]
 pub use plot::{
@@ -116,6 +117,22 @@ pub use plot::{
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
+
+/// What one pick did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PickEvent {
+    /// The picked cell (`y * N + x`).
+    pub from: usize,
+    /// The cell that received the sand (equal to `from` when nothing moved).
+    pub to: usize,
+    /// Cells travelled downwind before wrapping: the jump of the article's laws (may exceed
+    /// `N`, or be negative in ripple mode with a negative wind); in Werner mode the total of
+    /// the hops.
+    pub jump: i64,
+    /// Grains moved (0 when nothing moved: an empty cell, or a Werner cell without a slab or
+    /// in a shadow zone).
+    pub grains: u64,
+}
 
 /// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
 pub use crate::engine::VERSION;

@@ -1,11 +1,16 @@
 //! The Werner (1995) rules on the slab engine: erosion outside shadow zones, hops of `L`
 //! cells with deposition probabilities, the 15-degree shadow zone and avalanching at the
 //! angle of repose.
+//!
+//! [`WernerState`] holds the rules' constants and row bounds; its methods act on the heights
+//! `h` (grains, `h[y * N + x]`) of an `N x N` torus that the slab engine lends them.
 
 use rand::RngExt;
 
-use super::engine::{DuneModel, PickEvent};
-use super::{GRAINS_PER_UNIT, WernerParams, to_grains};
+use super::grid;
+use super::{GRAINS_PER_UNIT, PickEvent, WernerParams, to_grains};
+use crate::engine::lattice::Lattice;
+use crate::engine::rng::Stream;
 
 /// The Werner rules' constants, in grains.
 #[derive(Clone, Debug)]
@@ -47,59 +52,38 @@ impl WernerState {
     }
 }
 
-impl DuneModel {
-    fn werner(&self) -> &WernerState {
-        self.werner
-            .as_ref()
-            .expect("Werner state exists in Werner mode")
-    }
-
+impl WernerState {
     /// Recomputes the row bounds used by the shadow test.
-    pub(super) fn refresh_row_max(&mut self) {
-        let n = self.n;
-        if let Some(w) = self.werner.as_mut() {
-            for (m, row) in w.row_max.iter_mut().zip(self.h.chunks_exact(n)) {
-                *m = row.iter().copied().max().unwrap_or(0);
-            }
+    pub(super) fn refresh_row_max(&mut self, h: &[u64], n: usize) {
+        for (m, row) in self.row_max.iter_mut().zip(h.chunks_exact(n)) {
+            *m = row.iter().copied().max().unwrap_or(0);
         }
     }
 
     /// Keeps the row bound of cell `c`'s row at or above its height.
     #[inline]
-    fn raise_row_max(&mut self, c: usize) {
-        let r = (c as u32 / self.n as u32) as usize;
-        let hc = self.h[c];
-        if let Some(w) = self.werner.as_mut() {
-            if w.row_max[r] < hc {
-                w.row_max[r] = hc;
-            }
+    fn raise_row_max(&mut self, h: &[u64], n: usize, c: usize) {
+        let r = (c as u32 / n as u32) as usize;
+        let hc = h[c];
+        if self.row_max[r] < hc {
+            self.row_max[r] = hc;
         }
     }
 
-    /// True when cell `c` lies in the shadow zone of an upwind cell: some cell `k` cells
-    /// upwind (same row, `0 < k < N`) is higher by more than `k tan(15 deg)` cell widths.
-    /// Always false outside Werner mode.
-    pub fn in_shadow(&self, c: usize) -> bool {
-        let (x, row) = self.split(c);
-        self.in_shadow_at(x, row)
-    }
-
-    /// [`DuneModel::in_shadow`] of the cell in column `x` of the row starting at `row`.
+    /// True when the cell in column `x` of the row starting at `row` lies in the shadow zone
+    /// of an upwind cell: some cell `k` cells upwind (same row, `0 < k < N`) is higher by
+    /// more than `k tan(15 deg)` cell widths.
     #[inline]
-    fn in_shadow_at(&self, x: usize, row: usize) -> bool {
-        let Some(w) = self.werner.as_ref() else {
-            return false;
-        };
-        let n = self.n;
-        let hc = self.h[row + x];
-        let room = w.row_max[row / n].max(hc) - hc;
+    pub(super) fn in_shadow_at(&self, h: &[u64], n: usize, x: usize, row: usize) -> bool {
+        let hc = h[row + x];
+        let room = self.row_max[row / n].max(hc) - hc;
         for k in 1..n {
-            let drop = w.shadow_drop[k];
+            let drop = self.shadow_drop[k];
             if drop >= room {
                 return false;
             }
             let ux = if x >= k { x - k } else { x + n - k };
-            if self.h[row + ux] > hc + drop {
+            if h[row + ux] > hc + drop {
                 return true;
             }
         }
@@ -111,46 +95,43 @@ impl DuneModel {
     /// deposited (always in a shadow zone, else with probability `p_sand` on sand and
     /// `p_bare` on a bare cell), then avalanches down the steepest slope while it exceeds the
     /// angle of repose.
-    pub(super) fn pick_werner(&mut self) -> PickEvent {
-        let cells = (self.n * self.n) as u32;
-        let c = self.rng.random_range(0..cells) as usize;
-        let (slab, hop, ps, pb) = {
-            let w = self.werner();
-            (w.slab, i64::from(w.hop), w.p_sand, w.p_bare)
-        };
-        let (x0, row) = self.split(c);
+    pub(super) fn pick(&mut self, h: &mut [u64], n: usize, rng: &mut Stream) -> PickEvent {
+        let cells = (n * n) as u32;
+        let c = rng.random_range(0..cells) as usize;
+        let (slab, hop, ps, pb) = (self.slab, i64::from(self.hop), self.p_sand, self.p_bare);
+        let (x0, row) = grid::split(n, c);
         let still = PickEvent {
             from: c,
             to: c,
             jump: 0,
             grains: 0,
         };
-        if self.h[c] < slab || self.in_shadow_at(x0, row) {
+        if h[c] < slab || self.in_shadow_at(h, n, x0, row) {
             return still;
         }
-        self.h[c] -= slab;
-        self.avalanche_into(c);
-        let step = self.downwind_x(0, hop);
+        h[c] -= slab;
+        self.avalanche(h, n, c, false);
+        let step = grid::downwind_x(n, 0, hop);
         let mut x = x0;
         let mut dist = 0i64;
         loop {
             x += step;
-            if x >= self.n {
-                x -= self.n;
+            if x >= n {
+                x -= n;
             }
             dist = dist.saturating_add(hop);
-            if self.in_shadow_at(x, row) {
+            if self.in_shadow_at(h, n, x, row) {
                 break;
             }
-            let p = if self.h[row + x] > 0 { ps } else { pb };
-            if self.rng.random::<f64>() < p {
+            let p = if h[row + x] > 0 { ps } else { pb };
+            if rng.random::<f64>() < p {
                 break;
             }
         }
         let to = row + x;
-        self.h[to] += slab;
-        self.raise_row_max(to);
-        self.avalanche_down(to);
+        h[to] += slab;
+        self.raise_row_max(h, n, to);
+        self.avalanche(h, n, to, true);
         PickEvent {
             from: c,
             to,
@@ -159,36 +140,23 @@ impl DuneModel {
         }
     }
 
-    /// After a deposit on `c`: while some neighbour lies lower than the angle of repose
-    /// allows, one slab slides to the one with the largest excess, and the check goes on
-    /// from there.
-    fn avalanche_down(&mut self, c: usize) {
-        self.avalanche(c, true);
-    }
-
-    /// After an erosion at `c`: while some neighbour stands higher than the angle of repose
-    /// allows, one slab slides from the one with the largest excess into the hole, and the
-    /// check goes on from that neighbour.
-    fn avalanche_into(&mut self, c: usize) {
-        self.avalanche(c, false);
-    }
-
-    /// The avalanche walk from `c`: `downhill` moves slabs from the walking cell to its
-    /// lowest-excess neighbour, otherwise from the highest-excess neighbour into it.
-    fn avalanche(&mut self, c: usize, downhill: bool) {
-        let (slab, le, ld) = {
-            let w = self.werner();
-            (w.slab, w.repose_edge, w.repose_diag)
-        };
-        let (mut x, mut row) = self.split(c);
+    /// The avalanche walk from `c`. `downhill` (after a deposit on `c`): while some
+    /// neighbour lies lower than the angle of repose allows, one slab slides to the one with
+    /// the largest excess, and the check goes on from there. Otherwise (after an erosion at
+    /// `c`): while some neighbour stands higher than the angle of repose allows, one slab
+    /// slides from the one with the largest excess into the hole, and the check goes on from
+    /// that neighbour.
+    fn avalanche(&mut self, h: &mut [u64], n: usize, c: usize, downhill: bool) {
+        let (slab, le, ld) = (self.slab, self.repose_edge, self.repose_diag);
+        let (mut x, mut row) = grid::split(n, c);
         loop {
             let c = row + x;
-            let hc = self.h[c];
+            let hc = h[c];
             let mut best = None;
             let mut best_excess = 0u64;
-            for (k, &(nb, nx, nrow)) in self.moore(x, row).iter().enumerate() {
+            for (k, &(nb, nx, nrow)) in grid::moore(n, x, row).iter().enumerate() {
                 let lim = if k % 2 == 0 { le } else { ld };
-                let hn = self.h[nb];
+                let hn = h[nb];
                 let (hi, lo) = if downhill { (hc, hn) } else { (hn, hc) };
                 if hi > lo + lim && hi - lo - lim > best_excess {
                     best_excess = hi - lo - lim;
@@ -199,9 +167,9 @@ impl DuneModel {
                 return;
             };
             let (from, to) = if downhill { (c, nb) } else { (nb, c) };
-            self.h[from] -= slab;
-            self.h[to] += slab;
-            self.raise_row_max(to);
+            h[from] -= slab;
+            h[to] += slab;
+            self.raise_row_max(h, n, to);
             (x, row) = (nx, nrow);
         }
     }
@@ -210,30 +178,23 @@ impl DuneModel {
     /// moving whole slabs (about half the excess at once) from the higher to the lower cell,
     /// until no pair is steeper than the angle of repose. Each move lowers the sum of squared
     /// heights, so the sweeps end.
-    pub(super) fn relax_all(&mut self) {
-        let (slab, le, ld) = {
-            let w = self.werner();
-            (w.slab, w.repose_edge, w.repose_diag)
-        };
-        let cells = self.n * self.n;
+    pub(super) fn relax_all(&mut self, h: &mut [u64], n: usize, lattice: &Lattice) {
+        let (slab, le, ld) = (self.slab, self.repose_edge, self.repose_diag);
+        let cells = n * n;
         loop {
             let mut moved = false;
             for c in 0..cells {
-                let list = self.lattice.neighbour_list(c);
+                let list = lattice.neighbour_list(c);
                 // Offsets (1,0), (1,1), (0,1), (-1,1): each unordered pair once.
                 for (k, &nb) in list.as_slice().iter().enumerate().take(4) {
                     let nb = nb as usize;
                     let lim = if k % 2 == 0 { le } else { ld };
-                    let (hi, lo) = if self.h[c] >= self.h[nb] {
-                        (c, nb)
-                    } else {
-                        (nb, c)
-                    };
-                    let diff = self.h[hi] - self.h[lo];
+                    let (hi, lo) = if h[c] >= h[nb] { (c, nb) } else { (nb, c) };
+                    let diff = h[hi] - h[lo];
                     if diff > lim {
                         let m = (diff - lim).div_ceil(2 * slab) * slab;
-                        self.h[hi] -= m;
-                        self.h[lo] += m;
+                        h[hi] -= m;
+                        h[lo] += m;
                         moved = true;
                     }
                 }
@@ -242,24 +203,20 @@ impl DuneModel {
                 break;
             }
         }
-        self.refresh_row_max();
+        self.refresh_row_max(h, n);
     }
 
-    /// True when every neighbour pair is within the angle of repose (Werner mode; always
-    /// true in the other modes).
-    pub fn within_repose(&self) -> bool {
-        let Some(w) = self.werner.as_ref() else {
-            return true;
-        };
-        (0..self.n * self.n).all(|c| {
-            let list = self.lattice.neighbour_list(c);
+    /// True when every neighbour pair of `h` is within the angle of repose.
+    pub(super) fn within_repose(&self, h: &[u64], n: usize, lattice: &Lattice) -> bool {
+        (0..n * n).all(|c| {
+            let list = lattice.neighbour_list(c);
             list.as_slice().iter().enumerate().all(|(k, &nb)| {
                 let lim = if k % 2 == 0 {
-                    w.repose_edge
+                    self.repose_edge
                 } else {
-                    w.repose_diag
+                    self.repose_diag
                 };
-                self.h[c].abs_diff(self.h[nb as usize]) <= lim
+                h[c].abs_diff(h[nb as usize]) <= lim
             })
         })
     }

@@ -329,8 +329,8 @@ mod tests {
 
     #[test]
     fn sect_2_3_slices_agree_with_their_definition() {
-        use rand::{RngExt, SeedableRng};
-        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(5);
+        use rand::RngExt;
+        let mut rng = crate::engine::rng::stream(5);
         let f = flow_x();
         let mut partial = 0;
         for case in 0..300 {
