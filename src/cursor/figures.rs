@@ -12,13 +12,11 @@
 
 use std::path::{Path, PathBuf};
 
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::RGBColor;
 use rayon::prelude::*;
 
 use crate::engine::VERSION;
-use crate::plot::{self, Chart, PlotError, Series};
-use crate::plot::{Figure, FigureError};
+use crate::plot::{self, Chart, Figure, FigureError, Mark, PlotError, Series, Sheet};
 
 use super::display::{SeaLevel, flooded_fraction, terrain_rgb};
 use super::stats::{self, NoiseModel};
@@ -175,84 +173,52 @@ pub(super) fn draw_pictures(
     };
     let width = GAP + cols * (cw + GAP);
     let height = title_h + rows * (sub_h + ch + GAP) + cap_h + GAP / 2;
-    plot::check_picture_size("pictures", u64::from(width), u64::from(height))?;
-    let mut buf = vec![255u8; (width * height * 3) as usize];
-    plot::ensure_fonts();
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(PlotError::drawing)?;
-        let centred = |size: f64, bold: bool| {
-            let f = if bold {
-                ("sans-serif", size, FontStyle::Bold).into_font()
-            } else {
-                ("sans-serif", size).into_font()
-            };
-            f.color(&BLACK).pos(Pos::new(HPos::Center, VPos::Center))
-        };
-        root.draw(&Text::new(
-            title.to_string(),
-            ((width / 2) as i32, (title_h / 2) as i32),
-            centred(font * 1.2, true),
-        ))
-        .map_err(PlotError::drawing)?;
-        for (k, p) in pictures.iter().enumerate() {
-            let (r, c) = (k as u32 / cols, k as u32 % cols);
-            let x0 = GAP + c * (cw + GAP) + (cw - p.w) / 2;
-            let y0 = title_h + r * (sub_h + ch + GAP);
-            root.draw(&Text::new(
-                p.title.clone(),
-                ((x0 + p.w / 2) as i32, (y0 + sub_h / 2) as i32),
-                centred(font, false),
-            ))
-            .map_err(PlotError::drawing)?;
-            let top = y0 + sub_h;
-            let bitmap = BitMapElement::with_owned_buffer(
-                (x0 as i32, top as i32),
-                (p.w, p.h),
-                p.rgb.clone(),
-            )
-            .ok_or_else(|| PlotError::Drawing("picture size mismatch".into()))?;
-            root.draw(&bitmap).map_err(PlotError::drawing)?;
-            root.draw(&Rectangle::new(
-                [
-                    (x0 as i32 - 1, top as i32 - 1),
-                    ((x0 + p.w) as i32, (top + p.h) as i32),
-                ],
-                RGBColor(120, 120, 120).stroke_width(1),
-            ))
-            .map_err(PlotError::drawing)?;
-            let ink = RGBColor(20, 20, 20);
-            for &((ax, ay), (bx, by)) in &p.arrows {
-                let at = |x: f64, y: f64| ((x0 as f64 + x) as i32, (top as f64 + y) as i32);
-                root.draw(&PathElement::new(
-                    vec![at(ax, ay), at(bx, by)],
-                    ink.stroke_width(1),
-                ))
-                .map_err(PlotError::drawing)?;
-                let (dx, dy) = (bx - ax, by - ay);
-                let l = dx.hypot(dy).max(1e-9);
-                let (ux, uy) = (dx / l, dy / l);
-                let head = (l * 0.35).clamp(2.0, 6.0);
-                let left = at(bx - head * (ux + 0.5 * uy), by - head * (uy - 0.5 * ux));
-                let right = at(bx - head * (ux - 0.5 * uy), by - head * (uy + 0.5 * ux));
-                root.draw(&Polygon::new(vec![at(bx, by), left, right], ink.filled()))
-                    .map_err(PlotError::drawing)?;
-            }
+    let mut sheet = Sheet::new("pictures", u64::from(width), u64::from(height))?;
+    sheet.push(Mark::centred(
+        title,
+        ((width / 2) as i32, (title_h / 2) as i32),
+        font * 1.2,
+        true,
+    ));
+    for (k, p) in pictures.iter().enumerate() {
+        let (r, c) = (k as u32 / cols, k as u32 % cols);
+        let x0 = GAP + c * (cw + GAP) + (cw - p.w) / 2;
+        let y0 = title_h + r * (sub_h + ch + GAP);
+        sheet.push(Mark::centred(
+            p.title.clone(),
+            ((x0 + p.w / 2) as i32, (y0 + sub_h / 2) as i32),
+            font,
+            false,
+        ));
+        let top = y0 + sub_h;
+        sheet.push(Mark::Picture {
+            at: (x0 as i32, top as i32),
+            w: p.w,
+            h: p.h,
+            rgb: p.rgb.clone(),
+        });
+        sheet.push(Mark::Frame {
+            corners: [
+                (x0 as i32 - 1, top as i32 - 1),
+                ((x0 + p.w) as i32, (top + p.h) as i32),
+            ],
+            color: RGBColor(120, 120, 120),
+        });
+        let ink = RGBColor(20, 20, 20);
+        for &(from, to) in &p.arrows {
+            sheet.extend(Mark::arrow((x0 as f64, top as f64), from, to, ink));
         }
-        for (i, line) in caption.lines().enumerate() {
-            let y = height - cap_h - GAP / 2 + (font * 1.6) as u32 * i as u32 + (font * 0.8) as u32;
-            root.draw(&Text::new(
-                line.to_string(),
-                ((width / 2) as i32, y as i32),
-                centred(font * 0.85, false),
-            ))
-            .map_err(PlotError::drawing)?;
-        }
-        root.present().map_err(PlotError::drawing)?;
     }
-    let png = plot::encode_png(&buf, width, height)?;
-    crate::engine::io::write_atomic(path, &png)?;
-    Ok(())
+    for (i, line) in caption.lines().enumerate() {
+        let y = height - cap_h - GAP / 2 + (font * 1.6) as u32 * i as u32 + (font * 0.8) as u32;
+        sheet.push(Mark::centred(
+            line,
+            ((width / 2) as i32, y as i32),
+            font * 0.85,
+            false,
+        ));
+    }
+    sheet.write_png(path)
 }
 
 /// Runs the walk on `field` with `k` for `steps` steps from seed `seed`; returns the heights.

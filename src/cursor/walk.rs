@@ -22,24 +22,15 @@
 
 use rand::Rng;
 
-use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
+use crate::engine::lattice::{Boundary, Lattice, MOORE, Neighbourhood};
 use crate::engine::rng::{Stream, stream};
 
 use super::wind::{Wind, WindField};
 use super::{CursorError, P0, SPRING_SCALE};
 
-/// The eight directions, in the order of [`Neighbourhood::offsets`] for the Moore
-/// neighbourhood: counter-clockwise from +x, `(dx, dy)` in cells (y up).
-pub const DIRECTIONS: [(i32, i32); 8] = [
-    (1, 0),
-    (1, 1),
-    (0, 1),
-    (-1, 1),
-    (-1, 0),
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-];
+/// The eight directions: the engine's [`MOORE`] offsets, counter-clockwise from +x,
+/// `(dx, dy)` in cells (y up).
+pub const DIRECTIONS: [(i32, i32); 8] = MOORE;
 
 /// The unit vectors `u_i` of the eight directions (diagonals normalised by `1/sqrt 2`).
 pub const UNIT: [(f64, f64); 8] = {
@@ -122,7 +113,6 @@ impl Transitions {
             field.height(),
             Boundary::TORUS,
         )?;
-        debug_assert_eq!(Neighbourhood::Square8.offsets(0), &DIRECTIONS);
         let uniform = field.uniform_wind();
         // A uniform field keeps one row for all cells.
         let winds = match uniform {

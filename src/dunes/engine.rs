@@ -472,7 +472,10 @@ mod tests {
             .unwrap();
             for c in 0..n * n {
                 let (x, row) = m.split(c);
-                let mine: Vec<u32> = grid::moore(m.n, x, row).iter().map(|t| t.0 as u32).collect();
+                let mine: Vec<u32> = grid::moore(m.n, x, row)
+                    .iter()
+                    .map(|t| t.0 as u32)
+                    .collect();
                 assert_eq!(
                     mine,
                     m.lattice.neighbour_list(c).as_slice(),

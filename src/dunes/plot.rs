@@ -1,23 +1,22 @@
 //! Figures of the dune model (feature `plot`): height fields in a continuous colour map,
 //! dune bodies, the migration GIF and the error against run time.
 //!
-//! Heights are drawn with a sand colour ramp (dark bare ground to pale crests) built with
-//! plotters' [`DerivedColorMap`]; a picture is an `N x N` field of colours scaled up
-//! nearest-cell ([`FieldPanel`], [`draw_field`], with a colour bar). Wind blows left to
+//! Heights are drawn with the sand colour ramp ([`ColorRamp::Sand`]: dark bare ground to
+//! pale crests); a picture is an `N x N` field of colours scaled up nearest-cell
+//! ([`FieldPanel`], [`draw_field`], with a colour bar) and drawn by the plot module's
+//! [`Sheet`]. Wind blows left to
 //! right; row 0 is at the bottom. The GIF ([`MigrationRecorder`]) quantises heights into 255
 //! levels of the same ramp and uses [`GifWriter`].
 
 use std::path::{Path, PathBuf};
 
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{BLACK, RGBColor};
 
 use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
 use super::{BODY_THRESHOLD, DuneConfig, DuneModel, Mode, VERSION, above_threshold, bodies};
 use crate::engine::lattice::Lattice;
 use crate::plot::{
-    self, CellField, Chart, GifWriter, Palette, PlotError, Series, check_picture_size, encode_png,
-    ensure_fonts,
+    self, CellField, Chart, ColorRamp, GifWriter, Mark, Palette, PlotError, Series, Sheet,
 };
 use crate::plot::{Figure, FigureError};
 
@@ -50,41 +49,18 @@ pub const FIGURES: &[Figure] = &[
     },
 ];
 
-/// Colours of the height ramp, low to high: dark bare ground to pale sand crests (lightness
-/// increases monotonically).
-const RAMP: [RGBColor; 6] = [
-    RGBColor(24, 24, 44),
-    RGBColor(70, 44, 72),
-    RGBColor(138, 72, 62),
-    RGBColor(200, 124, 64),
-    RGBColor(236, 190, 112),
-    RGBColor(255, 244, 210),
-];
-
 /// Number of height levels in the GIF palette (states `0..HEIGHT_LEVELS`).
 pub const HEIGHT_LEVELS: usize = 255;
 
 /// Colour of a height at fraction `v` (clamped to [0, 1]) of the scale.
 pub fn height_color(v: f64) -> RGBColor {
-    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
-    DerivedColorMap::new(&RAMP).get_color_normalized(v, 0.0, 1.0)
-}
-
-/// The ramp sampled at `levels` evenly spaced points (at least 2).
-fn ramp_lut(levels: usize) -> Vec<RGBColor> {
-    let levels = levels.max(2);
-    let map = DerivedColorMap::new(&RAMP);
-    (0..levels)
-        .map(|i| map.get_color_normalized(i as f64 / (levels - 1) as f64, 0.0, 1.0))
-        .collect()
+    ColorRamp::Sand.color(v)
 }
 
 /// The GIF palette: [`HEIGHT_LEVELS`] colours of the height ramp, state `s` for the height
 /// `s / (HEIGHT_LEVELS - 1)` of the scale.
 pub fn height_palette() -> Palette {
-    Palette {
-        colors: ramp_lut(HEIGHT_LEVELS),
-    }
+    ColorRamp::Sand.palette(HEIGHT_LEVELS)
 }
 
 /// Heights (height units) quantised to palette states of [`height_palette`], with `max`
@@ -113,7 +89,7 @@ pub struct FieldPanel {
 /// The heights `grains` of an `n x n` grid, coloured with the height ramp, `max` height
 /// units at the top.
 pub fn height_panel(title: &str, grains: &[u64], n: usize, max: f64) -> FieldPanel {
-    let lut = ramp_lut(256);
+    let lut = ColorRamp::Sand.lut(256);
     let scale = if max > 0.0 { 255.0 / max } else { 0.0 };
     FieldPanel {
         title: title.to_string(),
@@ -224,99 +200,70 @@ pub fn draw_field(
     let height = u64::from(title_h)
         + rows as u64 * u64::from(ptitle_h + panel_px + GAP)
         + u64::from(label_h);
-    check_picture_size("panel_px", width, height)?;
-    let (width, height) = (width as u32, height as u32);
-    ensure_fonts();
-    let mut buf = vec![255u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(PlotError::drawing)?;
-        let centre = Pos::new(HPos::Center, VPos::Center);
-        for (k, line) in lines.iter().enumerate() {
-            let y = title_font * (1.0 + 1.4 * k as f64);
-            let weight = if k == 0 {
-                FontStyle::Bold
-            } else {
-                FontStyle::Normal
-            };
-            root.draw(&Text::new(
-                line.to_string(),
-                ((width / 2) as i32, y.round() as i32),
-                ("sans-serif", title_font, weight)
-                    .into_font()
-                    .color(&BLACK)
-                    .pos(centre),
-            ))
-            .map_err(PlotError::drawing)?;
-        }
-        let pstyle = ("sans-serif", font).into_font().color(&BLACK).pos(centre);
-        for (k, p) in panels.iter().enumerate() {
-            let (r, c) = ((k / cols) as u32, (k % cols) as u32);
-            let x0 = GAP + c * (panel_px + GAP);
-            let y0 = title_h + r * (ptitle_h + panel_px + GAP);
-            root.draw(&Text::new(
-                p.title.clone(),
-                ((x0 + panel_px / 2) as i32, (y0 + ptitle_h / 2) as i32),
-                pstyle.clone(),
-            ))
-            .map_err(PlotError::drawing)?;
-            let by = y0 + ptitle_h;
-            let px = panel_px as usize;
-            let mut pixels = Vec::with_capacity(px * px * 3);
-            for j in 0..px {
-                // Row 0 of the picture is the top: the highest y.
-                let y = p.n - 1 - (j * p.n / px).min(p.n - 1);
-                for i in 0..px {
-                    let x = (i * p.n / px).min(p.n - 1);
-                    let RGBColor(r, g, b) = p.rgb[y * p.n + x];
-                    pixels.extend_from_slice(&[r, g, b]);
-                }
-            }
-            let bitmap = BitMapElement::with_owned_buffer(
-                (x0 as i32, by as i32),
-                (panel_px, panel_px),
-                pixels,
-            )
-            .ok_or_else(|| PlotError::Drawing("panel bitmap size mismatch".into()))?;
-            root.draw(&bitmap).map_err(PlotError::drawing)?;
-            root.draw(&Rectangle::new(
-                [
-                    (x0 as i32 - 1, by as i32 - 1),
-                    ((x0 + panel_px) as i32, (by + panel_px) as i32),
-                ],
-                RGBColor(150, 150, 150).stroke_width(1),
-            ))
-            .map_err(PlotError::drawing)?;
-        }
-        if let Some(max) = bar_max {
-            draw_colour_bar(
-                &root,
-                width - bar_w,
-                title_h + ptitle_h,
-                panel_px,
-                max,
-                font,
-            )?;
-        }
-        root.present().map_err(PlotError::drawing)?;
+    let mut sheet = Sheet::new("panel_px", width, height)?;
+    let width = sheet.width();
+    for (k, line) in lines.iter().enumerate() {
+        let y = title_font * (1.0 + 1.4 * k as f64);
+        sheet.push(Mark::centred(
+            *line,
+            ((width / 2) as i32, y.round() as i32),
+            title_font,
+            k == 0,
+        ));
     }
-    let png = encode_png(&buf, width, height)?;
-    crate::engine::io::write_atomic(path, &png)?;
-    Ok(())
+    for (k, p) in panels.iter().enumerate() {
+        let (r, c) = ((k / cols) as u32, (k % cols) as u32);
+        let x0 = GAP + c * (panel_px + GAP);
+        let y0 = title_h + r * (ptitle_h + panel_px + GAP);
+        sheet.push(Mark::centred(
+            p.title.clone(),
+            ((x0 + panel_px / 2) as i32, (y0 + ptitle_h / 2) as i32),
+            font,
+            false,
+        ));
+        let by = y0 + ptitle_h;
+        let px = panel_px as usize;
+        let mut pixels = Vec::with_capacity(px * px * 3);
+        for j in 0..px {
+            // Row 0 of the picture is the top: the highest y.
+            let y = p.n - 1 - (j * p.n / px).min(p.n - 1);
+            for i in 0..px {
+                let x = (i * p.n / px).min(p.n - 1);
+                let RGBColor(r, g, b) = p.rgb[y * p.n + x];
+                pixels.extend_from_slice(&[r, g, b]);
+            }
+        }
+        sheet.push(Mark::Picture {
+            at: (x0 as i32, by as i32),
+            w: panel_px,
+            h: panel_px,
+            rgb: pixels,
+        });
+        sheet.push(Mark::Frame {
+            corners: [
+                (x0 as i32 - 1, by as i32 - 1),
+                ((x0 + panel_px) as i32, (by + panel_px) as i32),
+            ],
+            color: RGBColor(150, 150, 150),
+        });
+    }
+    if let Some(max) = bar_max {
+        sheet.extend(colour_bar(
+            width - bar_w,
+            title_h + ptitle_h,
+            panel_px,
+            max,
+            font,
+        ));
+    }
+    sheet.write_png(path)
 }
 
 /// A vertical colour bar of the height ramp from 0 (bottom) to `max` (top), `h` pixels tall,
 /// with ticks and the label "height (cell widths)".
-fn draw_colour_bar<DB: DrawingBackend>(
-    root: &DrawingArea<DB, plotters::coord::Shift>,
-    x0: u32,
-    y0: u32,
-    h: u32,
-    max: f64,
-    font: f64,
-) -> Result<(), PlotError> {
+fn colour_bar(x0: u32, y0: u32, h: u32, max: f64, font: f64) -> Vec<Mark> {
     let bw = 18u32;
-    let lut = ramp_lut(256);
+    let lut = ColorRamp::Sand.lut(256);
     let mut pixels = Vec::with_capacity((bw * h * 3) as usize);
     for j in 0..h {
         let v = 1.0 - f64::from(j) / f64::from(h.max(2) - 1);
@@ -325,42 +272,38 @@ fn draw_colour_bar<DB: DrawingBackend>(
             pixels.extend_from_slice(&[r, g, b]);
         }
     }
-    let bar = BitMapElement::with_owned_buffer((x0 as i32, y0 as i32), (bw, h), pixels)
-        .ok_or_else(|| PlotError::Drawing("colour bar size mismatch".into()))?;
-    root.draw(&bar).map_err(PlotError::drawing)?;
-    let style = ("sans-serif", font * 0.9)
-        .into_font()
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut marks = vec![Mark::Picture {
+        at: (x0 as i32, y0 as i32),
+        w: bw,
+        h,
+        rgb: pixels,
+    }];
+    let size = font * 0.9;
     for k in 0..=4 {
         let v = max * f64::from(k) / 4.0;
         let y = y0 as i32 + ((1.0 - f64::from(k) / 4.0) * f64::from(h - 1)).round() as i32;
-        root.draw(&PathElement::new(
-            vec![((x0 + bw) as i32, y), ((x0 + bw + 5) as i32, y)],
-            BLACK,
-        ))
-        .map_err(PlotError::drawing)?;
-        root.draw(&Text::new(
+        marks.push(Mark::Line {
+            points: vec![((x0 + bw) as i32, y), ((x0 + bw + 5) as i32, y)],
+            color: BLACK,
+        });
+        marks.push(Mark::left(
             format!("{v:.1}"),
             ((x0 + bw + 8) as i32, y),
-            style.clone(),
-        ))
-        .map_err(PlotError::drawing)?;
+            size,
+        ));
     }
     let line = (font * 1.1).round() as u32;
-    root.draw(&Text::new(
-        "height".to_string(),
+    marks.push(Mark::left(
+        "height",
         (x0 as i32, (y0 + h + line) as i32),
-        style.clone(),
-    ))
-    .map_err(PlotError::drawing)?;
-    root.draw(&Text::new(
-        "(cell widths)".to_string(),
+        size,
+    ));
+    marks.push(Mark::left(
+        "(cell widths)",
         (x0 as i32, (y0 + h + 2 * line) as i32),
-        style,
-    ))
-    .map_err(PlotError::drawing)?;
-    Ok(())
+        size,
+    ));
+    marks
 }
 
 /// Collects frames of a run for an animated GIF: heights sampled on at most `side x side`

@@ -25,6 +25,32 @@ pub const NONE: u32 = u32::MAX;
 /// Row spacing of the hexagonal lattice in cell widths: `sqrt(3)/2`.
 pub const HEX_ROW: f64 = 0.866_025_403_784_438_6;
 
+/// Offsets `(dx, dy)` of the 4 von Neumann neighbours (Eq. (2) of the growth paper),
+/// counter-clockwise from +x.
+pub const VON_NEUMANN: [(i32, i32); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
+
+/// Offsets `(dx, dy)` of the 8 Moore neighbours, counter-clockwise from +x: edge neighbours
+/// at even positions, diagonal ones at odd. Every 8-neighbour model (ripples, dunes, the
+/// cursor walk) takes its directions from here.
+pub const MOORE: [(i32, i32); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+/// Offsets of the 6 hexagonal neighbours (Eq. (3) of the growth paper) of a cell in an even
+/// row: the rows above and below are shifted right by half a cell, so their neighbours are at
+/// `dx = -1` and 0.
+pub const HEX_EVEN: [(i32, i32); 6] = [(1, 0), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1)];
+/// Offsets of the 6 hexagonal neighbours of a cell in an odd row (`dx = 0` and `+1` above and
+/// below).
+pub const HEX_ODD: [(i32, i32); 6] = [(1, 0), (1, 1), (0, 1), (-1, 0), (0, -1), (1, -1)];
+
 /// The neighbourhood of a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -64,24 +90,9 @@ impl Neighbourhood {
     /// Neighbour offsets `(dx, dy)` of a cell in row `y` (they depend on the row parity on
     /// the hexagonal lattice). Listed counter-clockwise from +x.
     pub fn offsets(self, y: usize) -> &'static [(i32, i32)] {
-        const SQ4: [(i32, i32); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
-        const SQ8: [(i32, i32); 8] = [
-            (1, 0),
-            (1, 1),
-            (0, 1),
-            (-1, 1),
-            (-1, 0),
-            (-1, -1),
-            (0, -1),
-            (1, -1),
-        ];
-        // Even rows: the rows above and below are shifted right by half a cell, so their
-        // neighbours are at dx = -1 and 0. Odd rows: at dx = 0 and +1.
-        const HEX_EVEN: [(i32, i32); 6] = [(1, 0), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1)];
-        const HEX_ODD: [(i32, i32); 6] = [(1, 0), (1, 1), (0, 1), (-1, 0), (0, -1), (1, -1)];
         match self {
-            Neighbourhood::Square4 => &SQ4,
-            Neighbourhood::Square8 => &SQ8,
+            Neighbourhood::Square4 => &VON_NEUMANN,
+            Neighbourhood::Square8 => &MOORE,
             Neighbourhood::Hex => {
                 if y % 2 == 0 {
                     &HEX_EVEN

@@ -7,6 +7,8 @@
 //! - [`Panel`]: a titled field, several of which [`lattice_panels`] draws as a grid into one PNG;
 //! - [`Series`] and [`Chart`]: line charts (optionally with markers and log axes), drawn as a grid
 //!   with legends into one PNG by [`line_charts`];
+//! - [`ColorRamp`], [`Sheet`] and [`Mark`] (module [`field`]): continuous colour maps and
+//!   the one renderer of every model's continuous fields (heights, grain size, wind);
 //! - [`GifWriter`]: an animated GIF of successive [`CellField`] frames;
 //! - [`Figure`] and [`FigureError`]: a published figure that `cellsurf figures` regenerates;
 //!   every model lists its own, and the crate's figure registry gathers them;
@@ -29,6 +31,7 @@
 
 mod animation;
 mod charts;
+pub mod field;
 mod figure;
 mod panels;
 mod raster;
@@ -37,6 +40,7 @@ mod tests;
 
 pub use animation::GifWriter;
 pub use charts::{Chart, Series, line_charts};
+pub use field::{ColorRamp, Mark, Sheet};
 pub use figure::{Figure, FigureError};
 pub use panels::{Panel, lattice_panels};
 pub use raster::{BACKGROUND, CellField, Palette, rasterize};

@@ -14,7 +14,10 @@ use plotters::style::RGBColor;
 use super::output::{Field, run_recording, surface_field, volume_field, volume_levels};
 use super::spectrum::{Analysis, moore_average};
 use super::{Ripple, RippleParams};
-use crate::plot::{CellField, Chart, Palette, Panel, Series, lattice_panels, line_charts};
+use crate::plot::field::{finite_range, states_over};
+use crate::plot::{
+    CellField, Chart, ColorRamp, Palette, Panel, Series, lattice_panels, line_charts,
+};
 use crate::plot::{Figure, FigureError};
 
 /// The figure scene (the defaults: the paper's Fig. 3 situation).
@@ -58,51 +61,12 @@ fn model_err(e: impl std::fmt::Display) -> FigureError {
     FigureError::Model(e.to_string())
 }
 
-/// A perceptual blue-green-yellow ramp (anchors chosen by eye, viridis-like), 256 entries.
+/// The ramp of the ripple and tiling figures: viridis from five anchors, 256 states.
 pub(crate) fn ramp_palette() -> Palette {
-    const A: [(f64, (f64, f64, f64)); 5] = [
-        (0.0, (68.0, 1.0, 84.0)),
-        (0.25, (59.0, 82.0, 139.0)),
-        (0.5, (33.0, 145.0, 140.0)),
-        (0.75, (94.0, 201.0, 98.0)),
-        (1.0, (253.0, 231.0, 37.0)),
-    ];
-    let colors = (0..256)
-        .map(|i| {
-            let t = i as f64 / 255.0;
-            let k = A.iter().rposition(|a| a.0 <= t).unwrap_or(0).min(3);
-            let s = (t - A[k].0) / (A[k + 1].0 - A[k].0);
-            let m = |a: f64, b: f64| (a + (b - a) * s).round() as u8;
-            let (c0, c1) = (A[k].1, A[k + 1].1);
-            RGBColor(m(c0.0, c1.0), m(c0.1, c1.1), m(c0.2, c1.2))
-        })
-        .collect();
-    Palette { colors }
+    ColorRamp::Viridis5.palette(256)
 }
 
-/// States 1..=255 for finite values scaled over [lo, hi]; 0 for NaN (drawn in the ramp's
-/// darkest colour, used as "no data" in sections: there the palette entry 0 is set white).
-pub(crate) fn to_states(v: &[f64], lo: f64, hi: f64) -> Vec<u8> {
-    let span = if hi > lo { hi - lo } else { 1.0 };
-    v.iter()
-        .map(|&x| {
-            if x.is_finite() {
-                (1.0 + 254.0 * ((x - lo) / span).clamp(0.0, 1.0)).round() as u8
-            } else {
-                0
-            }
-        })
-        .collect()
-}
-
-pub(crate) fn range_of(v: &[f64]) -> (f64, f64) {
-    v.iter()
-        .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        })
-}
-
+/// A square-lattice field of palette states, `nx x ny` columns.
 pub(crate) fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
     CellField {
         nx,
@@ -230,7 +194,7 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         .iter()
         .flat_map(|s| s.1.iter().map(|&v| v as f64))
         .collect();
-    let (lo, hi) = range_of(&all);
+    let (lo, hi) = finite_range(&all);
     let labels = ["t0", "t10", "t25", "t100"];
     let panels = run
         .snaps
@@ -240,7 +204,7 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             let v: Vec<f64> = e.iter().map(|&x| x as f64).collect();
             Panel {
                 title: format!("{l} (step {t})"),
-                field: field(nx, ny, to_states(&v, lo, hi)),
+                field: field(nx, ny, states_over(&v, lo, hi)),
             }
         })
         .collect::<Vec<_>>();
@@ -277,10 +241,10 @@ fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let r = &run.last;
     let (nx, ny) = r.size();
     let z = surface_values(r, Field::Impedance);
-    let (lo, hi) = range_of(&z);
+    let (lo, hi) = finite_range(&z);
     let path = dir.join("ripple_fig4_impedance.png");
     let elev = r.elevation();
-    let (elo, ehi) = range_of(&elev);
+    let (elo, ehi) = finite_range(&elev);
     lattice_panels(
         &path,
         &format!(
@@ -291,11 +255,11 @@ fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         &[
             Panel {
                 title: "impedance of the surface automata".into(),
-                field: field(nx, ny, to_states(&z, lo, hi)),
+                field: field(nx, ny, states_over(&z, lo, hi)),
             },
             Panel {
                 title: "elevation".into(),
-                field: field(nx, ny, to_states(&elev, elo, ehi)),
+                field: field(nx, ny, states_over(&elev, elo, ehi)),
             },
         ],
         1,
@@ -339,7 +303,7 @@ fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             avg[z * nx + x] = s / n;
         }
     }
-    let (lo, hi) = range_of(&avg);
+    let (lo, hi) = finite_range(&avg);
     let mut pal = ramp_palette();
     pal.colors[0] = RGBColor(255, 255, 255);
     let path = dir.join("ripple_fig7_section.png");
@@ -351,7 +315,7 @@ fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
                 "{lo:.3}-{hi:.3} mm (yellow = coarse), vertical exaggeration {:.0}x",
                 r.params().bin_size / r.params().layer_thickness
             ),
-            field: field(nx, nz, to_states(&avg, lo, hi)),
+            field: field(nx, nz, states_over(&avg, lo, hi)),
         }],
         1,
         &pal,
@@ -404,9 +368,9 @@ fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let r = &run.last;
     let (nx, ny) = r.size();
     let d = moore_average(r, &surface_values(r, Field::GrainSize));
-    let (lo, hi) = range_of(&d);
+    let (lo, hi) = finite_range(&d);
     let elev = r.elevation();
-    let (elo, ehi) = range_of(&elev);
+    let (elo, ehi) = finite_range(&elev);
     let an = Analysis::of(r);
     let path = dir.join("ripple_fig8_surface_grain_size.png");
     lattice_panels(
@@ -418,11 +382,11 @@ fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         &[
             Panel {
                 title: format!("surface grain size {lo:.3}-{hi:.3} mm (yellow = coarse)"),
-                field: field(nx, ny, to_states(&d, lo, hi)),
+                field: field(nx, ny, states_over(&d, lo, hi)),
             },
             Panel {
                 title: "elevation".into(),
-                field: field(nx, ny, to_states(&elev, elo, ehi)),
+                field: field(nx, ny, states_over(&elev, elo, ehi)),
             },
         ],
         1,

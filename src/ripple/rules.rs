@@ -44,29 +44,18 @@ use super::compaction::Deposit;
 use super::model::Ripple;
 use super::params::Abstraction;
 use super::water::Flow;
+use crate::engine::lattice::MOORE;
 
 /// The ways the grain can go from a cell, as octant offsets from the forward octant.
 const FORWARD_3D: [usize; 3] = [7, 0, 1];
 
-/// The Moore offsets by octant, as listed by the lattice engine for `Square8`.
-const SQ8: [(i32, i32); 8] = [
-    (1, 0),
-    (1, 1),
-    (0, 1),
-    (-1, 1),
-    (-1, 0),
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-];
-
 impl Ripple {
     /// The column in octant `k` (0 = +x, counter-clockwise, the order of the engine's
-    /// [`crate::engine::lattice::Neighbourhood::Square8`] offsets) of column `c`, wrapped on the torus
+    /// [`MOORE`] offsets) of column `c`, wrapped on the torus
     /// (in 2-D only octants 0 and 4 exist).
     #[inline(always)]
     pub(crate) fn nb(&self, c: usize, k: usize) -> usize {
-        let (dx, dy) = SQ8[k % 8];
+        let (dx, dy) = MOORE[k % 8];
         let (nx, ny) = (self.nx, self.ny);
         let (x, y) = (c % nx, c / nx);
         let x2 = match dx {

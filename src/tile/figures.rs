@@ -15,10 +15,11 @@ use super::seam::SeamStats;
 use super::stream::RowSource;
 use super::tileset::tiles_from_run;
 use super::{Choose, DuneParams, Mosaic, RippledDunes, SeamMeter, Tile};
+use crate::plot::field::{finite_range, states_over};
 use crate::plot::{Chart, Palette, Panel, Series, lattice_panels, line_charts};
 use crate::plot::{Figure, FigureError};
 use crate::ripple::RippleParams;
-use crate::ripple::figures::{field, ramp_palette, range_of, to_states};
+use crate::ripple::figures::{field, ramp_palette};
 
 /// The figures.
 pub const FIGURES: &[Figure] = &[
@@ -78,7 +79,7 @@ fn rows(src: &dyn RowSource) -> (Vec<f64>, SeamStats) {
 
 /// States of a mosaic with the tile borders dashed (state 0).
 fn with_borders(v: &[f64], w: usize, h: usize, tile: (usize, usize), lo: f64, hi: f64) -> Vec<u8> {
-    let mut s = to_states(v, lo, hi);
+    let mut s = states_over(v, lo, hi);
     for y in 0..h {
         for x in 0..w {
             let on_x = x % tile.0 == 0 && y % 8 < 3;
@@ -108,7 +109,7 @@ fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     ];
     let measured: Vec<(Vec<f64>, SeamStats)> = cases.iter().map(|(_, m)| rows(*m)).collect();
     let all: Vec<f64> = measured.iter().flat_map(|m| m.0.iter().copied()).collect();
-    let (lo, hi) = range_of(&all);
+    let (lo, hi) = finite_range(&all);
     let (w, h) = same.size();
     let tile = same.tile_size();
     let panels: Vec<Panel> = cases
@@ -241,7 +242,7 @@ fn fig9(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let dune: Vec<f64> = (0..w * h)
         .map(|c| d.dunes().height((c % w) as f64 * dx, (c / w) as f64 * dx))
         .collect();
-    let (lo, hi) = range_of(&dune);
+    let (lo, hi) = finite_range(&dune);
     let to_upper = |s: Vec<u8>| s.into_iter().map(|x| 128 + x / 2).collect::<Vec<u8>>();
     let slope = measured_slope(d.dunes()).unwrap_or(f64::NAN);
     let panels = vec![
@@ -255,7 +256,7 @@ fn fig9(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
                 lo * 1e3,
                 hi * 1e3
             ),
-            field: field(w, h, to_upper(to_states(&dune, lo, hi))),
+            field: field(w, h, to_upper(states_over(&dune, lo, hi))),
         },
     ];
     let path = dir.join("ripple_fig9_fractal_dunes.png");

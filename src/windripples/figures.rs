@@ -3,14 +3,12 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::RGBColor;
 
 use super::model::{WindRun, run};
 use super::params::WindParams;
 use super::stats::{WindStats, power_spectrum_y};
-use crate::plot::FigureError;
-use crate::plot::{self, Chart, PlotError, Series};
+use crate::plot::{self, Chart, ColorRamp, FigureError, Mark, PlotError, Series, Sheet};
 
 use crate::engine::VERSION;
 
@@ -33,9 +31,7 @@ pub fn describe(p: &WindParams) -> String {
 /// 256 colours of the viridis colormap (dark violet, blue, green, yellow), index 0 for
 /// height 0.
 fn lut() -> Vec<RGBColor> {
-    (0..256)
-        .map(|i| ViridisRGB::get_color_normalized(i as f64, 0.0, 255.0))
-        .collect()
+    ColorRamp::Viridis.lut(256)
 }
 
 /// The colour index of height `h` on a scale `0..=vmax`.
@@ -93,104 +89,91 @@ pub fn draw_height(path: &Path, r: &WindRun) -> Result<(), PlotError> {
     let width = gap * 3 + main_px + zoom_px;
     let height = title_h + label_h + main_px + gap;
     let vmax = r.height.iter().cloned().fold(0.0, f64::max);
-    plot::ensure_fonts();
-    let mut buf = vec![255u8; width as usize * height as usize * 3];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(PlotError::drawing)?;
-        let centre = Pos::new(HPos::Center, VPos::Center);
-        let left = Pos::new(HPos::Left, VPos::Center);
-        let t1 = ("sans-serif", 24.0, FontStyle::Bold)
-            .into_font()
-            .color(&BLACK)
-            .pos(centre);
-        let t2 = ("sans-serif", 16.0).into_font().color(&BLACK).pos(centre);
-        let t3 = ("sans-serif", 16.0).into_font().color(&BLACK).pos(left);
-        let draw = |s: String, at: (u32, u32), st: &TextStyle| {
-            root.draw(&Text::new(s, (at.0 as i32, at.1 as i32), st.clone()))
-                .map_err(PlotError::drawing)
-        };
-        draw(
-            format!(
-                "Wind ripples (the notebook's model): height after {} steps",
-                p.steps
-            ),
-            (width / 2, 20),
-            &t1,
-        )?;
-        draw(describe(p), (width / 2, 48), &t2)?;
-        let y0 = title_h + label_h;
-        draw(
-            "height field (bilinear, as the notebook's lanczos); x across, wind y down".into(),
-            (gap + main_px / 2, title_h + label_h / 2),
-            &t2,
-        )?;
-        let zx = 2 * gap + main_px;
-        draw(
-            format!("corner {zoom_bins} x {zoom_bins} bins, cell by cell"),
-            (zx + zoom_px / 2, title_h + label_h / 2),
-            &t2,
-        )?;
-        let field = render(&r.height, bins, main_px, vmax, true);
-        let bm =
-            BitMapElement::with_owned_buffer((gap as i32, y0 as i32), (main_px, main_px), field)
-                .ok_or_else(|| PlotError::Drawing("height bitmap size mismatch".into()))?;
-        root.draw(&bm).map_err(PlotError::drawing)?;
-        // The corner: the first zoom_bins columns and rows.
-        let mut corner = Vec::with_capacity(zoom_bins * zoom_bins);
-        for ix in 0..zoom_bins {
-            for iy in 0..zoom_bins {
-                corner.push(r.height[ix * bins + iy]);
-            }
+    let mut sheet = Sheet::new("bins", u64::from(width), u64::from(height))?;
+    let at = |x: u32, y: u32| (x as i32, y as i32);
+    sheet.push(Mark::centred(
+        format!(
+            "Wind ripples (the notebook's model): height after {} steps",
+            p.steps
+        ),
+        at(width / 2, 20),
+        24.0,
+        true,
+    ));
+    sheet.push(Mark::centred(describe(p), at(width / 2, 48), 16.0, false));
+    let y0 = title_h + label_h;
+    sheet.push(Mark::centred(
+        "height field (bilinear, as the notebook's lanczos); x across, wind y down",
+        at(gap + main_px / 2, title_h + label_h / 2),
+        16.0,
+        false,
+    ));
+    let zx = 2 * gap + main_px;
+    sheet.push(Mark::centred(
+        format!("corner {zoom_bins} x {zoom_bins} bins, cell by cell"),
+        at(zx + zoom_px / 2, title_h + label_h / 2),
+        16.0,
+        false,
+    ));
+    sheet.push(Mark::Picture {
+        at: at(gap, y0),
+        w: main_px,
+        h: main_px,
+        rgb: render(&r.height, bins, main_px, vmax, true),
+    });
+    // The corner: the first zoom_bins columns and rows.
+    let mut corner = Vec::with_capacity(zoom_bins * zoom_bins);
+    for ix in 0..zoom_bins {
+        for iy in 0..zoom_bins {
+            corner.push(r.height[ix * bins + iy]);
         }
-        let zoom = render(&corner, zoom_bins, zoom_px, vmax, false);
-        let bm = BitMapElement::with_owned_buffer((zx as i32, y0 as i32), (zoom_px, zoom_px), zoom)
-            .ok_or_else(|| PlotError::Drawing("zoom bitmap size mismatch".into()))?;
-        root.draw(&bm).map_err(PlotError::drawing)?;
-        // Colour bar under the corner.
-        let cb_y = y0 + zoom_px + 40;
-        let lut = lut();
-        for i in 0..zoom_px {
-            let c = lut[(i as usize * 255) / (zoom_px as usize - 1)];
-            root.draw(&Rectangle::new(
-                [
-                    (zx as i32 + i as i32, cb_y as i32),
-                    (zx as i32 + i as i32 + 1, cb_y as i32 + 22),
-                ],
-                c.filled(),
-            ))
-            .map_err(PlotError::drawing)?;
-        }
-        for (frac, name) in [(0.0, "0"), (0.5, ""), (1.0, "")] {
-            let x = zx + (frac * f64::from(zoom_px - 1)) as u32;
-            let label = if name.is_empty() {
-                format!("{:.1}", frac * vmax)
-            } else {
-                name.to_string()
-            };
-            draw(label, (x, cb_y + 36), &t2)?;
-        }
-        draw(
-            "height (mean 1; scale 0 to the maximum, as the notebook)".into(),
-            (zx + zoom_px / 2, cb_y - 12),
-            &t2,
-        )?;
-        let s: &WindStats = &r.stats;
-        let f = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2} bins"));
-        let lines = [
-            format!("height mean {:.6}, std {:.4}", s.height_mean, s.height_std),
-            format!("dominant wavelength {}", f(s.wavelength_bins)),
-            format!("mean wavelength {}", f(s.mean_wavelength_bins)),
-            format!("hop L = {:.2} bins", p.hop * bins as f64),
-        ];
-        for (k, l) in lines.into_iter().enumerate() {
-            draw(l, (zx, cb_y + 80 + 26 * k as u32), &t3)?;
-        }
-        root.present().map_err(PlotError::drawing)?;
     }
-    let png = plot::encode_png(&buf, width, height)?;
-    crate::engine::io::write_atomic(path, &png)?;
-    Ok(())
+    sheet.push(Mark::Picture {
+        at: at(zx, y0),
+        w: zoom_px,
+        h: zoom_px,
+        rgb: render(&corner, zoom_bins, zoom_px, vmax, false),
+    });
+    // Colour bar under the corner.
+    let cb_y = y0 + zoom_px + 40;
+    let lut = lut();
+    for i in 0..zoom_px {
+        let c = lut[(i as usize * 255) / (zoom_px as usize - 1)];
+        sheet.push(Mark::Fill {
+            corners: [
+                (zx as i32 + i as i32, cb_y as i32),
+                (zx as i32 + i as i32 + 1, cb_y as i32 + 22),
+            ],
+            color: c,
+        });
+    }
+    for (frac, name) in [(0.0, "0"), (0.5, ""), (1.0, "")] {
+        let x = zx + (frac * f64::from(zoom_px - 1)) as u32;
+        let label = if name.is_empty() {
+            format!("{:.1}", frac * vmax)
+        } else {
+            name.to_string()
+        };
+        sheet.push(Mark::centred(label, at(x, cb_y + 36), 16.0, false));
+    }
+    sheet.push(Mark::centred(
+        "height (mean 1; scale 0 to the maximum, as the notebook)",
+        at(zx + zoom_px / 2, cb_y - 12),
+        16.0,
+        false,
+    ));
+    let s: &WindStats = &r.stats;
+    let f = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2} bins"));
+    let lines = [
+        format!("height mean {:.6}, std {:.4}", s.height_mean, s.height_std),
+        format!("dominant wavelength {}", f(s.wavelength_bins)),
+        format!("mean wavelength {}", f(s.mean_wavelength_bins)),
+        format!("hop L = {:.2} bins", p.hop * bins as f64),
+    ];
+    for (k, l) in lines.into_iter().enumerate() {
+        sheet.push(Mark::left(l, at(zx, cb_y + 80 + 26 * k as u32), 16.0));
+    }
+    sheet.write_png(path)
 }
 
 /// Draws the spectrum `P(k)` of `r`'s height along the wind against the wavelength, with the
