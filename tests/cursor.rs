@@ -1,4 +1,4 @@
-//! The wind-field cursor walk (article 004): exact properties of Eq. (2), the walk's long-run
+//! The wind-field cursor walk ("A model for sedimentation of airborne particles"): exact properties of Eq. (2), the walk's long-run
 //! statistics against exact results, reproducibility, input checks and the command line.
 //!
 //! Statistical tests use fixed seeds (so they are deterministic) and tolerances derived from

@@ -1,4 +1,4 @@
-//! The acoustic ray tracer (issue 4): shadows on Gaussian surfaces against Smith's (1967)
+//! The acoustic ray tracer: shadows on Gaussian surfaces against Smith's (1967)
 //! function, the ray tracer against straight-line visibility, sections through a ripple
 //! volume with impedance and reflection coefficient, the extreme cases (horizontal, vertical
 //! and turning-depth launches, zero gradient, floor deeper or shallower than the profile

@@ -1,4 +1,4 @@
-//! The sand-ripple volume generator (issue 3): invariants after every step, the ripple field's
+//! The sand-ripple volume generator: invariants after every step, the ripple field's
 //! shape, grain sorting, stiff and extreme cases, invalid parameters, and the output files.
 //! Small grids and few steps keep the suite fast; long runs are `#[ignore]`d.
 
@@ -149,7 +149,7 @@ fn angle_diff_mod_180(a: f64, b: f64) -> f64 {
     d.min(180.0 - d)
 }
 
-/// PHYSICS.md: current ripples have a ripple index of about 8-20, a lee at the angle of
+/// Soulsby (1997), Dynamics of marine sands, Sect. 7.2: current ripples have a ripple index of about 8-20, a lee at the angle of
 /// repose (about 28 deg in water, avalanches at alpha = 32 deg) and a longer, gentler stoss.
 /// On this small grid the lee faces reach about 24-26 deg (27-29 deg at the defaults, 128 x 64).
 #[test]

@@ -1,5 +1,5 @@
 //! The rejection sampler (the paper's algorithm) and the exact rejection-free sampler run the
-//! same stochastic process on the same clock (READING.md, "The clock"), so the distribution of
+//! same stochastic process on the same clock (our reading of the paper's clock: one timestep is one pick), so the distribution of
 //! any observable at a fixed timestep must be the same for both.
 //!
 //! Each test runs many independent seeds of each sampler (the seeds of the two samplers are

@@ -1,4 +1,4 @@
-//! Stiff and extreme cases (issue 2, "Stiff and extreme cases"): very small and very large n,
+//! Stiff and extreme cases (the users' "stiff and extreme cases"): very small and very large n,
 //! the lattice filling up, a seed that touches itself across the torus, the smallest legal
 //! lattices, direction weights that vanish on some sites, and invalid parameters. Nothing may
 //! panic, hang or return NaN; the exact sampler's clock is finite or reported as overflowed.

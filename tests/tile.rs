@@ -1,4 +1,4 @@
-//! Tiling and fractal dunes (issue 4): seams of mosaics of toroidal ripple tiles (same tile,
+//! Tiling and fractal dunes: seams of mosaics of toroidal ripple tiles (same tile,
 //! close steps, different seeds, blended), streaming to NetCDF-3 and `.npy` against the
 //! in-memory mosaic, the fBm spectrum slope and periodicity, ripples re-oriented by the current,
 //! and the extreme cases (zero sizes, a mosaic of one tile).

@@ -1,4 +1,4 @@
-//! Wind ripples (issue 5, "Wind ripples"): the notebook's particle model, its extreme cases and
+//! Wind ripples (the notebook "Modelling wind ripples"): the notebook's particle model, its extreme cases and
 //! its reproducibility. Small particle counts, so that the suite is fast in debug builds.
 //!
 //! - Density normalisation: the counts sum to N and the mean height is 1 at every step.

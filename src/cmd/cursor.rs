@@ -1,5 +1,5 @@
 //! `cellsurf cursor`: the wind-field cursor walk of "A model for sedimentation of airborne
-//! particles" (article 004, READING.md section 004).
+//! particles" (article; Eqs. 1-3).
 //!
 //! The library does the work ([`cellsurf::cursor`]); this file parses the options, builds the
 //! wind field (a PNG image or a built-in generator), runs the walk in chunks with a progress

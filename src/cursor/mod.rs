@@ -1,7 +1,7 @@
 //! Wind-field cursor walk: sand landscapes drawn by one random walker under a fixed wind field.
 //!
-//! The model of "A model for sedimentation of airborne particles" (article 004, read with
-//! `../shared/READING.md`, section 004). One cursor walks an 8-neighbour torus; each cell it
+//! The model of "A model for sedimentation of airborne particles" (article;
+//! its ambiguous passages read as stated below). One cursor walks an 8-neighbour torus; each cell it
 //! arrives in gains one unit of height ("100% binding rule": the height is the number of hits).
 //! In calm air each of the eight moves has probability `P0 = 1/8`; under a wind `W` the
 //! probability of direction `i` is (article Eqs. 1-2, Hooke's-law redistribution)

@@ -10,8 +10,8 @@
 //! # Colour encoding (article, "Numeric definition of the R, G and B colour components")
 //!
 //! A pixel's red, green and blue levels (0-255) are three vectors at 120 degrees to one another
-//! and the wind is their sum (article Eq. 3; its Fig. 3, which gave the orientation, is lost, see
-//! READING.md section 004). Here
+//! and the wind is their sum (article Eq. 3; its Fig. 3, which gave the orientation, is lost from
+//! the text we have, so the orientation below is our choice). Here
 //!
 //! - red points toward 0 degrees (right, +x),
 //! - green toward 120 degrees (up and left),

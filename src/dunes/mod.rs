@@ -15,10 +15,13 @@
 //!   [`Lattice`](crate::engine::lattice::Lattice));
 //! - [`DuneError`]: a parameter out of range, naming the parameter, its value and the range.
 //!
-//! [`study`] holds the error-against-run-time study; the figures (feature `plot`) are in
+//! The slab engine lives in `engine.rs`, the torus geometry in `grid.rs`, the Werner rules
+//! in `werner.rs`, the measurements in `measure.rs`; [`study`] holds the
+//! error-against-run-time study; the figures (feature `plot`) are in
 //! `FIGURES`, drawn by the functions of the private `plot` module re-exported here.
 //!
-//! # The article's model (`../shared/seeds/003_*.txt`, read with `READING.md` section 003)
+//! # The article's model ("Werner model" dune patterns, the follow-up of a Werner wind-ripple
+//! article; our readings of its ambiguous passages are stated below)
 //!
 //! The article's code (`simulate.py`) works on an `N x N` periodic grid of heights `h[i, j]`.
 //! Each iteration applies a *jumping rule* (wind lifts sand from random cells and drops it
@@ -55,7 +58,7 @@
 //!   and differs from the formula by less than 8 grains per cell (`D` is applied to 10^-6).
 //!   Quantities drawn from the laws are rounded to the nearest grain.
 //! - **The defect fixed.** The article's code subtracts `q` even from a cell holding less,
-//!   which then goes negative (READING.md). Here a pick moves `min(q, h)`: heights never go
+//!   which then goes negative. Here a pick moves `min(q, h)`: heights never go
 //!   negative.
 //! - **Picks among cells with `h > 0`** (dune mode) are drawn uniformly among the cells that
 //!   hold at least one grain at the moment of the pick (a set kept up to date in O(1) per
@@ -134,7 +137,7 @@ pub struct PickEvent {
     pub grains: u64,
 }
 
-/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+/// The crate version, recorded in every output (the engine's).
 pub use crate::engine::VERSION;
 
 /// Grains per height unit: heights are held as integer grains, so the sand balance is exact.

@@ -4,7 +4,7 @@
 //! - [`SamplerKind::Rejection`]: the paper's algorithm verbatim. One timestep picks a
 //!   uniformly random surface site and accepts it if `R < p`.
 //! - [`SamplerKind::Exact`]: the same stochastic process on the same clock, drawn directly
-//!   (READING.md, "The clock"): the number of rejected picks before the next acceptance is
+//!   (our reading of the paper's clock: one timestep is one pick, accepted or not): the number of rejected picks before the next acceptance is
 //!   geometric with success probability `P = sum(p) / S` over the `S` surface sites, and the
 //!   accepted site is chosen with probability proportional to its `p`. Sites are grouped by
 //!   `b`; class weights are computed relative to the highest occupied class, so that they

@@ -22,7 +22,7 @@ use crate::growth::rule::{RuleError, Sticking, Weight};
 use crate::growth::sampler::{Outcome, SamplerKind};
 use crate::growth::{Growth, GrowthError};
 
-/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+/// The crate version, recorded in every output (the engine's).
 pub use crate::engine::VERSION;
 
 /// The scenes.

@@ -2,7 +2,7 @@
 //!
 //! Cells are empty or occupied (burnt, solid, crystal). Every empty cell counts its occupied
 //! neighbours `b`; the *surface* (interface) sites are the empty cells with `b >= 1`
-//! (READING.md), kept in a [`Surface`] partitioned by `b`. Occupying a cell updates the
+//! (our reading of the paper's "surface sites"), kept in a [`Surface`] partitioned by `b`. Occupying a cell updates the
 //! counts of its neighbours and the surface incrementally in `O(z)`.
 //!
 //! The clock ([`Growth::time`]) counts Monte Carlo timesteps as the paper does: one pick of a

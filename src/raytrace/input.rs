@@ -1,4 +1,4 @@
-//! Reading a seafloor surface from a NetCDF-3 file for [`super::Grid::section`]:
+//! Reading a seafloor surface from a NetCDF-3 file for [`Grid::section`](super::seafloor::Grid::section):
 //! [`read_surface`] takes either a ripple volume (`cellsurf ripple --out`: a `time` record
 //! dimension, read by [`crate::ripple::input::read`]) or a mosaic (`cellsurf tile --out`:
 //! `elevation(y, x)` with `y` the record dimension, coordinates `x`, `y` in m, and maybe a volume

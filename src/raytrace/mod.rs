@@ -1,5 +1,5 @@
-//! Acoustic ray tracing over a generated seafloor (issue 4; paper Sect. 3.3 and Fig. 5 of
-//! Staelens, Dupont & Henriet): 2-D rays in the vertical plane from a transducer S, through a
+//! Acoustic ray tracing over a generated seafloor (Sect. 3.3 and Fig. 5 of Staelens,
+//! Dupont & Henriet): 2-D rays in the vertical plane from a transducer S, through a
 //! sound-speed profile c(z), reflected at the sea surface and at a seafloor section, and the
 //! shadows they leave on the floor.
 //!
@@ -43,10 +43,10 @@ pub use shadow::{
     Arrival, Fan, Insonification, InsonifyOptions, insonify, reflection_coefficient, visibility,
 };
 
-/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+/// The crate version, recorded in every output (the engine's).
 pub use crate::engine::VERSION;
 
-/// Seawater density used for the water impedance rho_w c_w, kg/m^3 (Soulsby 1997, PHYSICS.md).
+/// Seawater density used for the water impedance rho_w c_w, kg/m^3 (Soulsby 1997, Dynamics of marine sands).
 pub const RHO_WATER: f64 = 1027.0;
 
 /// The figures of the ray tracer, made by `cellsurf figures`.

@@ -2,7 +2,8 @@
 //!
 //! - [`SoundSpeed::Isovelocity`]: c constant (straight rays).
 //! - [`SoundSpeed::Linear`]: c = c0 + g z; rays are circular arcs of radius
-//!   c(z0) / (|g| cos theta0) (PHYSICS.md "Ray acoustics").
+//!   c(z0) / (|g| cos theta0) (Snell's law; Jensen, Kuperman, Porter & Schmidt 2011,
+//!   Computational Ocean Acoustics, Springer, ch. 3).
 //! - [`SoundSpeed::Munk`]: Munk's (1974) canonical deep-water profile ([`Munk`]).
 //! - [`SoundSpeed::Table`]: piecewise linear in depth ([`Table`]; depths strictly increasing,
 //!   speeds positive), as BELLHOP's 'C' (c-linear) interpolation.
@@ -158,7 +159,7 @@ pub fn row_tol(z: f64) -> f64 {
 }
 
 /// Munk's (1974) canonical profile c(z) = c_axis [1 + eps (zt - 1 + exp(-zt))],
-/// zt = 2 (z - z_axis) / scale (PHYSICS.md "Ray acoustics": c_axis = 1500, z_axis = 1300,
+/// zt = 2 (z - z_axis) / scale (Munk 1974, J. Acoust. Soc. Am. 55, 220-226: c_axis = 1500, z_axis = 1300,
 /// scale = 1300, eps = 0.00737).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Munk {
@@ -184,7 +185,8 @@ impl Default for Munk {
 }
 
 /// Mackenzie's (1981) sound speed of seawater, m/s, at temperature `t` (deg C), salinity `s`
-/// (ppt) and depth `d` (m) (PHYSICS.md: T=10, S=35, D=10 gives 1489.97 m/s), with its partial
+/// (ppt) and depth `d` (m) (Mackenzie 1981, J. Acoust. Soc. Am. 70, 807-812:
+/// T=10, S=35, D=10 gives 1489.97 m/s), with its partial
 /// derivatives (dc/dT, dc/dS, dc/dD).
 pub fn mackenzie(t: f64, s: f64, d: f64) -> (f64, [f64; 3]) {
     let ds = s - 35.0;

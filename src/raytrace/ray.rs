@@ -1,7 +1,7 @@
 //! [`Tracer`]: 2-D rays through c(z), reflected at the sea surface and at a [`Seafloor`].
 //!
 //! The ray equations are BELLHOP's (Porter, "The BELLHOP Manual and User's Guide", 2011;
-//! PHYSICS.md "Ray acoustics"), in arc length s:
+//! Porter's BELLHOP; Jensen et al. 2011, Computational Ocean Acoustics, ch. 3), in arc length s:
 //! dx/ds = c t_x, dz/ds = c t_z, dt_x/ds = -c_x / c^2 = 0, dt_z/ds = -c_z / c^2,
 //! d tau/ds = 1 / c, with t = (cos theta, sin theta) / c. They are integrated by the classical
 //! fourth-order Runge-Kutta scheme with a fixed step `ds` (BELLHOP uses a second-order scheme;
@@ -599,7 +599,7 @@ impl<'a> Tracer<'a> {
 }
 
 /// Radius of the circular ray of a linear profile c = c0 + g z launched at depth `z0` and
-/// angle `theta0` (radians): R = c(z0) / (|g| cos theta0) (PHYSICS.md "Ray acoustics").
+/// angle `theta0` (radians): R = c(z0) / (|g| cos theta0) (Snell's law in a linear profile).
 pub fn linear_arc_radius(c0: f64, g: f64, z0: f64, theta0: f64) -> f64 {
     (c0 + g * z0) / (g.abs() * theta0.cos())
 }
@@ -629,7 +629,7 @@ pub struct StepError {
     pub steps: usize,
 }
 
-/// The integrator's error against step size and run time: PHYSICS.md's linear profile
+/// The integrator's error against step size and run time: the linear profile
 /// (c0 = 1500 m/s, g = 0.017 1/s, a ray launched at 10 degrees from 1 m depth, 30 km of path
 /// down through its turning point at 1.36 km and back up, R = 89.6 km) and a Munk ray (10
 /// degrees from 1000 m, 50 km, two turning points), over 5 km deep water.
@@ -694,7 +694,7 @@ mod tests {
 
     #[test]
     fn linear_profile_arc_radius() {
-        // PHYSICS.md: c0 = 1500, g = 0.017 1/s, theta0 = 10 deg -> R = 89.6 km
+        // Circular arc of the linear profile: c0 = 1500, g = 0.017 1/s, theta0 = 10 deg -> R = 89.6 km
         let (c0, g) = (1500.0, 0.017);
         let th = 10f64.to_radians();
         let r = linear_arc_radius(c0, g, 0.0, th);

@@ -15,7 +15,7 @@ use rustfft::num_complex::Complex;
 use super::{RaytraceError, check_range, range_err};
 
 /// Smith's (1967) illuminated fraction of a Gaussian rough surface of rms slope `s` under a
-/// plane wave at grazing angle `theta` (radians) (PHYSICS.md "Sediment acoustics"):
+/// plane wave at grazing angle `theta` (radians) (Smith 1967, IEEE Trans. Antennas Propag. 15, 668-671):
 /// mu = tan(theta) / (sqrt(2) s), Lambda = exp(-mu^2) / (2 sqrt(pi) mu) - erfc(mu) / 2,
 /// fraction = (1 - erfc(mu) / 2) / (1 + Lambda). (s = 0.1: 5 deg -> 0.722, 10 deg -> 0.953.)
 pub fn smith_illuminated_fraction(theta: f64, s: f64) -> f64 {

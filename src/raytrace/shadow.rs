@@ -19,14 +19,14 @@
 //!
 //! The reflection coefficient at normal incidence is R0 = (Z2 - Z1) / (Z2 + Z1), Z2 the
 //! sediment impedance of the vertex and Z1 = rho_w c(z) the water's at the vertex depth
-//! (PHYSICS.md "Sediment acoustics"; rho_w = 1027 kg/m^3).
+//! (Jensen et al. 2011, ch. 1; rho_w = 1027 kg/m^3).
 
 use super::ray::{Ray, Surface, TraceOptions, Tracer};
 use super::seafloor::Seafloor;
 use super::{RHO_WATER, RaytraceError, check_range, range_err};
 
 /// Normal-incidence reflection coefficient R0 = (Z2 - Z1) / (Z2 + Z1) of a sediment of
-/// impedance `z2` under water of impedance `z1` (PHYSICS.md "Sediment acoustics").
+/// impedance `z2` under water of impedance `z1` (Jensen et al. 2011, Computational Ocean Acoustics, ch. 1).
 pub fn reflection_coefficient(z2: f64, z1: f64) -> f64 {
     (z2 - z1) / (z2 + z1)
 }

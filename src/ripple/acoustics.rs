@@ -1,8 +1,9 @@
 //! [`density_speed`]: bulk density, sound speed and acoustic impedance of each automaton
-//! (paper Sect. 3.2; the paper gives no formula, READING.md 000).
+//! (paper Sect. 3.2; the paper gives no formula; the relations used are cited below).
 //!
-//! [`AcousticModel::Hamilton`] (default), PHYSICS.md "Porosity and compaction" and
-//! "Sediment acoustics":
+//! [`AcousticModel::Hamilton`] (default), from Hamilton & Bachman (1982), "Sound velocity and
+//! related properties of marine sediments", J. Acoust. Soc. Am. 72, 1891-1904, and Wood (1930),
+//! A Textbook of Sound:
 //! - bulk density by the mixture rule `rho_B = eps rho_w + (1 - eps) rho_s`;
 //! - sound speed from Hamilton & Bachman (1982)'s representative sand values by mean grain size
 //!   Mz (phi): speed ratios 1.201, 1.152, 1.120, 1.086 at Mz 0.5, 2.5, 3.5, 4.5 (c_w = 1510 m/s),

@@ -1,7 +1,7 @@
 //! [`Compaction`]: porosity of each automaton from how it was deposited and from burial.
 //!
-//! The paper gives no formula (READING.md 000). The rule used here, bounded by Soulsby (1997)
-//! Table 5 (PHYSICS.md "Porosity and compaction"):
+//! The paper gives no formula. The rule used here, bounded by Soulsby (1997), Dynamics of
+//! marine sands, Thomas Telford, Table 5:
 //!
 //! - The Table 5 row is chosen by the sorting sigma_phi: well sorted for sigma_phi <= 0.5,
 //!   "average" at 1.0, "well mixed" at >= 2.0, linear in between.

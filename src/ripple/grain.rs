@@ -1,18 +1,18 @@
 //! [`GrainClasses`]: the grain-size classes of the automata and the flow's energy budget per
 //! class.
 //!
-//! Grain sizes are normal in Krumbein phi (phi = -log2(d / 1 mm), PHYSICS.md "Grain size"),
+//! Grain sizes are normal in Krumbein phi (phi = -log2(d / 1 mm); Krumbein 1934),
 //! i.e. log-normal in d, with median `d50` and standard deviation `sorting` (phi units). The
 //! distribution is cut at +-4 sigma and binned into classes 0.125 phi wide (at most 255
 //! classes); each automaton stores its class as a `u8`. Sorting 0 gives one class.
 //!
 //! The energy budget E_x of the paper (Eqs. 2-3) is taken from the excess Shields stage: the
 //! bed shear stress `tau = rho_w C_D u^2` gives `theta = tau / ((rho_s - rho_w) g d)`, compared
-//! with Soulsby's threshold `theta_cr(D*)` (Soulsby 1997, Eqs. 75 and 77; PHYSICS.md). A grain
+//! with Soulsby's threshold `theta_cr(D*)` (Soulsby 1997, Dynamics of marine sands, Eqs. 75 and 77). A grain
 //! with `theta > theta_cr` receives `E_x = m g' mu L (theta / theta_cr - 1)` with
 //! `L = hop_length x bin_size`: in units of `m g'` (g' = g (s - 1) / s, buoyancy-reduced), the
 //! budget is a flat-bed friction path. Because theta grows as 1/d faster than theta_cr falls,
-//! fine grains receive a larger budget per unit mass and travel further (READING.md 000).
+//! fine grains receive a larger budget per unit mass and travel further (our reading: the paper gives the budget no formula).
 
 use rand::RngExt;
 use rand_distr::{Distribution, Normal};
@@ -165,7 +165,7 @@ mod tests {
 
     #[test]
     fn soulsby_example_6_3() {
-        // PHYSICS.md: d = 200 um -> D* = 4.06, theta_cr = 0.0553 (s = 2.58 there).
+        // Soulsby (1997) Example 6.3: d = 200 um -> D* = 4.06, theta_cr = 0.0553 (s = 2.58 there).
         assert!((d_star(200e-6) - 4.06).abs() < 0.05);
         assert!((theta_cr(200e-6) - 0.0553).abs() < 0.001);
     }

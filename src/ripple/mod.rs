@@ -45,7 +45,7 @@ pub use spectrum::Analysis;
 pub use volume::{Automaton, SandVolume};
 pub use water::{Flow, WaterVolume};
 
-/// The crate version, recorded in every output (the engine's [`VERSION`](crate::engine::VERSION)).
+/// The crate version, recorded in every output (the engine's).
 pub use crate::engine::VERSION;
 
 /// The figures of this model, made by `cellsurf figures`.

@@ -20,8 +20,8 @@
 //!
 //! **Roll/saltation.** The grain leaves its column and, bin by bin, moves to the cheapest of
 //! the forward cells, spending Delta e = E_friction + E_gravity = m g' (mu Delta s + Delta h)
-//! (Eq. 4), with Delta s = sqrt(Delta x^2 + Delta y^2 + (Delta h + gd)^2) (Eqs. 1 and 7, the
-//! second Eq. 1 of READING.md) and Delta h the rise of the grain's top. A descent costs at least
+//! (Eq. 4), with Delta s = sqrt(Delta x^2 + Delta y^2 + (Delta h + gd)^2) (Eqs. 1 and 7; the
+//! paper prints two equations numbered 1, this is the second) and Delta h the rise of the grain's top. A descent costs at least
 //! a tenth of the flat friction (`0.1 mu Delta x`, so a grain never gains energy: our choice).
 //! It stops before the hop that would make E exceed E_x (Eq. 3: E <= E_x), when it enters the
 //! current shadow (it "settles down in the current shadow"), or after `nx + ny` hops. Energies

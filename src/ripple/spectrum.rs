@@ -195,7 +195,8 @@ impl Analysis {
     }
 }
 
-/// Soulsby & Whitehouse (2005) equilibrium current ripples (PHYSICS.md), valid for
+/// Soulsby & Whitehouse (2005), "Prediction of ripple properties in shelf seas",
+/// HR Wallingford report TR 150: equilibrium current ripples, valid for
 /// 1.2 < D* < 16: (wavelength m, height m) for `d50` in m.
 pub fn soulsby_whitehouse(d50: f64) -> (f64, f64) {
     let ds = super::grain::d_star(d50);
@@ -232,7 +233,7 @@ mod tests {
 
     #[test]
     fn soulsby_whitehouse_check_value() {
-        // PHYSICS.md: d50 = 0.2 mm -> lambda = 14.6 cm, height = 1.86 cm.
+        // Soulsby & Whitehouse (2005): d50 = 0.2 mm -> lambda = 14.6 cm, height = 1.86 cm.
         let (l, h) = soulsby_whitehouse(0.2e-3);
         assert!((l - 0.146).abs() < 0.002, "{l}");
         assert!((h - 0.0186).abs() < 0.0005, "{h}");

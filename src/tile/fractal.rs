@@ -1,8 +1,8 @@
 //! Dune-scale relief by spectral synthesis ([`DuneField`], [`FbmParams`], [`Relief`]) and its
 //! radially averaged power spectrum ([`radial_spectrum`], [`spectrum_slope`]).
 //!
-//! **Fractional Brownian surface** (Saupe 1988, "Algorithms for random fractals",
-//! `SpectralSynthesisFM2D`; PHYSICS.md "Fractal surfaces"): on a periodic `nx x ny` grid with
+//! **Fractional Brownian surface** (Saupe 1988, "Algorithms for random fractals", in The
+//! Science of Fractal Images, Springer, `SpectralSynthesisFM2D`): on a periodic `nx x ny` grid with
 //! spacings `dx, dy` (m), every wave vector `k = (i / (nx dx), j / (ny dy))` (cycles per metre,
 //! FFT frequencies) gets the coefficient `A(K) g e^{i phi}`: a Gaussian amplitude `g`, a
 //! uniform phase `phi`, and `A(K) = K^-(H + 1)` (`A(0) = 0`, zero mean), so that the power

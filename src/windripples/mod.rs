@@ -1,20 +1,21 @@
 //! Wind ripples: the particle model of Laurent Perrinet's notebook "Modelling wind ripples"
-//! (`../shared/seeds/001_*.txt`, read with `../shared/READING.md`, section 001).
+//! (numpy and PyTorch). Our readings of its ambiguous passages are stated below.
 //!
-//! The principal types are:
+//! The principal types, one concept per file:
 //!
-//! - [`WindParams`]: the parameters (notebook defaults: 256 x 256 bins, 524,288 particles, 1024
-//!   steps, hop `L = 1/64`, `kappa = 4.5`, `D = 8e-4`, seed 1998) and the diffusion
-//!   [`Schedule`];
-//! - [`WindRipples`]: the particles and the last height histogram, advanced by
-//!   [`WindRipples::step`];
-//! - [`WindStats`]: the summary of a height field ([`height_stats`]): mean (1 by construction),
-//!   standard deviation, dominant ripple wavelength ([`wavelength_bins`]) and spectrum-weighted
-//!   mean wavelength ([`mean_wavelength_bins`]), both from [`power_spectrum_y`];
-//! - [`WindRun`]: a whole run ([`run`]) with its timing;
-//! - [`WindError`]: a parameter out of range, naming the parameter, its value and the range;
-//! - [`npy_bytes`], the `.npy` writer. Normal deviates come from `rand_distr::StandardNormal`.
+//! - [`WindParams`] ([`params`]): the parameters (notebook defaults: 256 x 256 bins, 524,288
+//!   particles, 1024 steps, hop `L = 1/64`, `kappa = 4.5`, `D = 8e-4`, seed 1998), the
+//!   diffusion [`Schedule`] and [`WindError`] (a parameter out of range, naming the parameter,
+//!   its value and the range);
+//! - [`WindRipples`] ([`model`]): the particles and the last height histogram, advanced by
+//!   [`WindRipples::step`]; [`WindRun`], a whole run ([`run`]) with its timing;
+//! - [`WindStats`] ([`stats`]): the summary of a height field ([`height_stats`]): mean (1 by
+//!   construction), standard deviation, dominant ripple wavelength ([`wavelength_bins`]) and
+//!   spectrum-weighted mean wavelength ([`mean_wavelength_bins`]), both from
+//!   [`power_spectrum_y`];
+//! - [`npy_bytes`] ([`output`]): the `.npy` writer.
 //!
+//! Normal deviates come from `rand_distr::StandardNormal`, on the engine's random streams.
 //! Figures (feature `plot`): [`FIGURES`] (`windripples_height`, `windripples_error_vs_time`),
 //! drawn by the `figures` module.
 //!
@@ -32,7 +33,7 @@
 //! 4. saltation in the wind direction `y`: `y_i += L * sigmoid(-kappa * h(cell of particle i))`
 //!    with `sigmoid(z) = 1 / (1 + exp(-z))` ([`sigmoid`]).
 //!
-//! As in the notebook (and the peer `../shared/peers/wind_ripples_numpy.py`), the saltation is
+//! As in the notebook (and its numpy code, the benchmarks' peer), the saltation is
 //! *not* wrapped at once: between steps `y_i` lies in `[0, 1 + L)`, and the next step's wrap
 //! (after its diffusion) brings it back. [`WindRipples::height`] is the histogram of the last
 //! step, taken before that step's saltation, which is what the notebook's function returns.
@@ -74,6 +75,7 @@ pub use output::npy_bytes;
 pub use params::{MAX_BINS, MAX_LENGTH, MAX_PARTICLES, Schedule, WindError, WindParams};
 pub use stats::{WindStats, height_stats, mean_wavelength_bins, power_spectrum_y, wavelength_bins};
 
+/// The figures of this model, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
 pub const FIGURES: &[crate::plot::Figure] = &[
     crate::plot::Figure {

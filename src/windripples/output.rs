@@ -31,8 +31,6 @@ pub fn npy_bytes(data: &[f64], shape: &[usize]) -> Vec<u8> {
     out
 }
 
-/// The figures of this model, made by `cellsurf figures`.
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -97,7 +97,7 @@ pub struct WindParams {
     pub bins: usize,
     /// Number of particles `N`; default 524,288 (notebook `N_particles = 2**16 * 8`).
     pub particles: usize,
-    /// Number of steps of [`run`]; default 1024 (notebook `N_step = 2**10`).
+    /// Number of steps of [`run`](super::run); default 1024 (notebook `N_step = 2**10`).
     pub steps: u64,
     /// Saltation hop `L` along `y`, torus units; default `1/64` (notebook `L = 1 / 2**6`).
     pub hop: f64,

@@ -20,7 +20,7 @@ pub struct WindStats {
 }
 
 /// Mean, standard deviation and wavelengths of a `bins x bins` height field laid out as
-/// [`WindRipples::counts`]. Sums run in cell order, so the result is reproducible.
+/// [`WindRipples::counts`](super::WindRipples::counts). Sums run in cell order, so the result is reproducible.
 pub fn height_stats(height: &[f64], bins: usize) -> WindStats {
     let m = height.len().max(1) as f64;
     let mean = compensated_sum(height.iter().copied()) / m;
