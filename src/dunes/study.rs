@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{DuneConfig, DuneError, DuneModel, DuneStats};
-use crate::engine::stats::{ConvergePoint, mean_and_se};
+use crate::engine::stats::{self, ConvergePoint, mean_and_se};
 
 /// One seed's run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -91,22 +91,8 @@ pub fn error_curve(
     runs: &[SeedRun],
     get: fn(&DuneStats) -> f64,
 ) -> ErrorCurve {
-    let mut values = Vec::with_capacity(runs.len());
-    let mut cpu = 0.0;
-    let mut points = Vec::new();
-    for r in runs {
-        cpu += r.cpu_s;
-        values.push(get(r.last()));
-        if values.len() >= 2 {
-            let (mean, se) = mean_and_se(&values);
-            points.push(ConvergePoint {
-                seeds: values.len(),
-                cpu_s: cpu,
-                mean,
-                std_error: se,
-            });
-        }
-    }
+    let samples: Vec<(f64, f64)> = runs.iter().map(|r| (get(r.last()), r.cpu_s)).collect();
+    let points = stats::error_curve(&samples);
     ErrorCurve {
         label: label.to_string(),
         observable,

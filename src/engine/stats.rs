@@ -1,5 +1,5 @@
 //! Statistics shared by every model's studies: the mean and its standard error over seeds
-//! ([`mean_and_se`]), one point of an error-against-run-time curve ([`ConvergePoint`]) and
+//! ([`mean_and_se`]), error-against-run-time curves ([`error_curve`] of [`ConvergePoint`]s) and
 //! the least-squares slope of a power law ([`loglog_slope`]).
 
 use serde::Serialize;
@@ -16,6 +16,29 @@ pub struct ConvergePoint {
     pub mean: f64,
     /// Standard error of that mean: sample standard deviation / sqrt(seeds).
     pub std_error: f64,
+}
+
+/// The error-against-run-time curve of seeds run one after another, from `(value, run time
+/// in seconds)` per seed: after each seed from the second on, the mean of the values so far,
+/// its standard error and the cumulative run time.
+pub fn error_curve(runs: &[(f64, f64)]) -> Vec<ConvergePoint> {
+    let mut values = Vec::with_capacity(runs.len());
+    let mut cpu = 0.0;
+    let mut points = Vec::new();
+    for &(v, t) in runs {
+        cpu += t;
+        values.push(v);
+        if values.len() >= 2 {
+            let (mean, se) = mean_and_se(&values);
+            points.push(ConvergePoint {
+                seeds: values.len(),
+                cpu_s: cpu,
+                mean,
+                std_error: se,
+            });
+        }
+    }
+    points
 }
 
 /// Mean and standard error of the mean (sample standard deviation / sqrt(m)).
@@ -63,5 +86,14 @@ mod tests {
         // sample variance 5/3, se = sqrt(5/12)
         assert!((se - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
         assert!(mean_and_se(&[7.0]).1.is_nan());
+    }
+
+    #[test]
+    fn error_curve_has_a_point_per_seed_from_the_second() {
+        let c = error_curve(&[(1.0, 0.5), (3.0, 0.25), (2.0, 1.0)]);
+        assert_eq!(c.len(), 2);
+        assert_eq!((c[0].seeds, c[0].cpu_s, c[0].mean), (2, 0.75, 2.0));
+        assert_eq!((c[1].seeds, c[1].cpu_s, c[1].mean), (3, 1.75, 2.0));
+        assert!((c[1].std_error - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
     }
 }

@@ -7,7 +7,7 @@
 
 use serde::Serialize;
 
-use crate::engine::stats::{ConvergePoint, mean_and_se};
+use crate::engine::stats::{ConvergePoint, error_curve};
 
 use crate::growth::sampler::SamplerKind;
 use crate::growth::scene::{self, NoHooks, Observables, SceneConfig, SceneError, SceneKind};
@@ -45,27 +45,19 @@ pub fn converge(
     seeds: usize,
 ) -> Result<ConvergeCurve, SceneError> {
     let (name, get) = scene_observable(cfg.scene);
-    let mut values = Vec::with_capacity(seeds);
-    let mut cpu = 0.0;
-    let mut points = Vec::new();
+    let mut runs = Vec::with_capacity(seeds);
     for k in 0..seeds as u64 {
         let mut c = cfg.clone();
         c.seed = first_seed + k;
         c.snapshots.clear();
         c.series = 1;
         let r = scene::run(&c, &mut NoHooks)?;
-        cpu += r.setup_s + r.elapsed_s;
-        values.push(get(&r.last.values).unwrap_or(f64::NAN));
-        if values.len() >= 2 {
-            let (mean, se) = mean_and_se(&values);
-            points.push(ConvergePoint {
-                seeds: values.len(),
-                cpu_s: cpu,
-                mean,
-                std_error: se,
-            });
-        }
+        runs.push((
+            get(&r.last.values).unwrap_or(f64::NAN),
+            r.setup_s + r.elapsed_s,
+        ));
     }
+    let points = error_curve(&runs);
     Ok(ConvergeCurve {
         label: label.to_string(),
         scene: cfg.scene,
