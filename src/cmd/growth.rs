@@ -47,9 +47,18 @@ pub struct GrowArgs {
     /// flat thickness.
     #[arg(long, allow_negative_numbers = true)]
     start: Option<f64>,
-    /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca).
-    #[arg(long)]
+    /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca);
+    /// whole numbers, `1e7` accepted. With --events or --until-occupied and no --steps the
+    /// clock has no limit (the rejection sampler stops at 2^53 picks).
+    #[arg(long, value_name = "N", value_parser = parse_count, allow_negative_numbers = true)]
     steps: Option<u64>,
+    /// Stop after N accepted events (cells added), `1e5` accepted: reaches stiff cases
+    /// (large n) whose clock runs past 2^53.
+    #[arg(long, value_name = "N", value_parser = parse_count, allow_negative_numbers = true)]
+    events: Option<u64>,
+    /// Stop when this fraction of the lattice is occupied, in (0, 1].
+    #[arg(long, value_name = "F", allow_negative_numbers = true)]
+    until_occupied: Option<f64>,
     /// Timesteps of the snapshots drawn by --out, comma-separated and increasing.
     #[arg(long, value_delimiter = ',')]
     snapshots: Option<Vec<u64>>,
@@ -102,6 +111,20 @@ pub struct ConvergeArgs {
     /// Print the curves as JSON.
     #[arg(long)]
     json: bool,
+}
+
+/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
+fn parse_count(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    if let Ok(v) = t.parse::<u64>() {
+        return Ok(v);
+    }
+    let bad = || format!("'{s}' is not a whole non-negative number (e.g. 100000 or 1e5)");
+    let v: f64 = t.parse().map_err(|_| bad())?;
+    if !v.is_finite() || v < 0.0 || v.fract() != 0.0 || v > 1.8e19 {
+        return Err(bad());
+    }
+    Ok(v as u64)
 }
 
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
@@ -158,6 +181,27 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if let Some(v) = a.start {
         c.start = v;
     }
+    if (a.events.is_some() || a.until_occupied.is_some())
+        && a.steps.is_none()
+        && a.sampler == Some(SamplerKind::Rejection)
+    {
+        bail!(
+            "--events and --until-occupied with --sampler rejection need --steps (one pick per \
+             timestep: its clock is its work); --sampler exact runs the same process with no clock limit"
+        );
+    }
+    if a.events.is_some() || a.until_occupied.is_some() {
+        c.events = a.events.or(c.events);
+        c.until_occupied = a.until_occupied.or(c.until_occupied);
+        if a.steps.is_none() && a.scenario.is_none() {
+            // No clock limit; the default snapshots (clock times) are dropped, the final
+            // state is drawn.
+            c.steps = 0;
+            if a.snapshots.is_none() {
+                c.snapshots.clear();
+            }
+        }
+    }
     if let Some(v) = a.steps {
         c.steps = v;
         // Default snapshots that no longer fit are thinned to those within the run.
@@ -208,6 +252,10 @@ struct CliHooks {
     gif: Option<GifWriter>,
     gif_error: Option<anyhow::Error>,
     hex: bool,
+    /// GIF frames at evenly spaced event counts (runs stopped by events).
+    event_frames: usize,
+    series: bool,
+    snapshots: bool,
 }
 
 impl RunHooks for CliHooks {
@@ -220,6 +268,15 @@ impl RunHooks for CliHooks {
     }
     fn frame_times(&self) -> Vec<f64> {
         self.frames.clone()
+    }
+    fn frame_count(&self) -> usize {
+        self.event_frames
+    }
+    fn wants_series(&self) -> bool {
+        self.series
+    }
+    fn wants_snapshots(&self) -> bool {
+        self.snapshots
     }
     fn frame(&mut self, _time: f64, g: &Growth) {
         if let Some(gif) = self.gif.as_mut() {
@@ -262,7 +319,8 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         )?),
         None => None,
     };
-    let frames = if gif.is_some() {
+    let by_events = cfg.events.is_some() || cfg.until_occupied.is_some();
+    let frames = if gif.is_some() && !by_events {
         let k = a.gif_frames.max(1) as u64;
         (0..=k)
             .map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64)
@@ -276,9 +334,16 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         silent: a.quiet || a.json,
         start: Instant::now(),
         frames,
+        event_frames: if gif.is_some() && by_events {
+            a.gif_frames
+        } else {
+            0
+        },
         gif,
         gif_error: None,
         hex: cfg.lattice.is_hex(),
+        series: a.csv.is_some(),
+        snapshots: a.out.is_some(),
     };
     let r = scene::run(&cfg, &mut hooks)?;
     hooks.bar.finish_and_clear();
@@ -327,13 +392,16 @@ fn summary(r: &RunResult) -> serde_json::Value {
         "scene": c.scene.name(),
         "steps": if r.last.time.is_finite() { serde_json::json!(r.last.time) } else { serde_json::Value::Null },
         "clock_finite": r.last.time.is_finite(),
+        "clock_exact": r.clock_exact,
+        "log10_clock": r.log10_clock,
         "accepted": r.last.accepted,
         "occupied": r.last.occupied,
         "surface_sites": r.last.surface,
         "stop_reason": r.stop,
         "elapsed_s": r.elapsed_s,
         "setup_s": r.setup_s,
-        "accepted_per_s": r.last.accepted as f64 / r.elapsed_s.max(1e-12),
+        "observe_s": r.observe_s,
+        "accepted_per_s": r.last.accepted as f64 / (r.elapsed_s - r.observe_s).max(1e-12),
         "memory_bytes": r.memory_bytes,
         "bytes_per_cell": r.memory_bytes as f64 / (c.width * c.height) as f64,
         "peak_rss_bytes": peak_rss_bytes(),

@@ -97,18 +97,43 @@ pub fn rejected_picks(ln_p: f64, e: f64) -> f64 {
     if ln_p >= 0.0 {
         return 0.0;
     }
-    // rate = -ln(1 - P), computed without cancellation in every regime.
-    let ln_rate = if ln_p < -20.0 {
+    let ln_rate = ln_rate(ln_p);
+    if ln_rate > -700.0 {
+        (e / ln_rate.exp()).floor()
+    } else {
+        (e.ln() - ln_rate).exp().floor()
+    }
+}
+
+/// `ln(-ln(1 - P))` for an acceptance probability `P = exp(ln_p) < 1`, without cancellation
+/// in every regime: the log of the rate of the exponential law behind the geometric count.
+fn ln_rate(ln_p: f64) -> f64 {
+    if ln_p < -20.0 {
         // rate = P (1 + P/2 + ...), P < 2e-9.
         ln_p + (0.5 * ln_p.exp()).ln_1p()
     } else {
         let one_minus_p = -ln_p.exp_m1();
         (-one_minus_p.ln()).ln()
-    };
-    if ln_rate > -700.0 {
-        (e / ln_rate.exp()).floor()
+    }
+}
+
+/// The natural log of [`rejected_picks`]`(ln_p, e)` (up to its rounding down to a whole
+/// number), finite where the count itself exceeds the largest `f64`: the log clock of an
+/// unbounded run uses it.
+pub fn ln_rejected_picks(ln_p: f64, e: f64) -> f64 {
+    if ln_p >= 0.0 {
+        return f64::NEG_INFINITY;
+    }
+    e.ln() - ln_rate(ln_p)
+}
+
+/// `ln(exp(a) + exp(b))` without overflow.
+fn ln_add(a: f64, b: f64) -> f64 {
+    let (hi, lo) = if a >= b { (a, b) } else { (b, a) };
+    if lo == f64::NEG_INFINITY {
+        hi
     } else {
-        (e.ln() - ln_rate).exp().floor()
+        hi + (lo - hi).exp().ln_1p()
     }
 }
 
@@ -164,12 +189,19 @@ impl Growth {
     /// Faster than calling [`Growth::step_rejection`] per event when no per-event work is
     /// needed.
     pub fn run_rejection(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
-        loop {
+        self.run_rejection_until(rng, limit, u64::MAX)
+    }
+
+    /// As [`Growth::run_rejection`], and stops as soon as [`Growth::accepted`] reaches
+    /// `accepted` (returning [`Outcome::Limit`]).
+    pub fn run_rejection_until(&mut self, rng: &mut Stream, limit: f64, accepted: u64) -> Outcome {
+        while self.accepted < accepted {
             match self.step_rejection(rng, limit) {
                 Outcome::Accepted(_) => continue,
                 o => return o,
             }
         }
+        Outcome::Limit
     }
 
     /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
@@ -182,7 +214,8 @@ impl Growth {
         if s == 0 {
             return Outcome::Exhausted;
         }
-        if self.time >= limit {
+        // An unbounded run on a log clock goes on once its clock is past the largest f64.
+        if self.time >= limit && (limit.is_finite() || self.log_clock.is_none()) {
             return Outcome::Limit;
         }
         if self.tree.is_none() && !self.weight.is_uniform() {
@@ -234,6 +267,7 @@ impl Growth {
                 // P = total (top/z)^n / S, in the linear domain unless (top/z)^n underflows.
                 // P = 1 (every pick accepted, e.g. n = 0) needs no draw.
                 let p_top = self.rule.p(top);
+                let mut ln_wait = None;
                 let wait = if p_top > 1e-280 {
                     let p = total * p_top / s as f64;
                     if p >= 1.0 {
@@ -243,12 +277,28 @@ impl Growth {
                     }
                 } else {
                     let e: f64 = rng.sample(Exp1);
-                    rejected_picks(total.ln() + self.rule.ln_p(top) - (s as f64).ln(), e)
+                    let ln_p = total.ln() + self.rule.ln_p(top) - (s as f64).ln();
+                    let w = rejected_picks(ln_p, e);
+                    if w.is_infinite() {
+                        ln_wait = Some(ln_rejected_picks(ln_p, e));
+                    }
+                    w
                 };
-                self.time + wait + 1.0
+                let at = self.time + wait + 1.0;
+                // An unbounded run (no clock limit) that allows it goes on past the largest
+                // f64 on a log clock; otherwise the run stops there (ClockOverflow below).
+                if limit.is_infinite()
+                    && self.log_clock_allowed
+                    && (at.is_infinite() || self.log_clock.is_some())
+                {
+                    let prev = self.log_clock.unwrap_or(self.time.ln());
+                    let lw = ln_wait.unwrap_or_else(|| (wait + 1.0).ln());
+                    self.log_clock = Some(ln_add(prev, lw));
+                }
+                at
             }
         };
-        if at.is_infinite() {
+        if at.is_infinite() && self.log_clock.is_none() {
             self.time = at;
             return Outcome::ClockOverflow;
         }
@@ -291,12 +341,21 @@ impl Growth {
 
     /// Runs the exact sampler until the clock reaches `limit` (or the surface empties).
     pub fn run_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
-        loop {
+        self.run_exact_until(rng, limit, u64::MAX)
+    }
+
+    /// As [`Growth::run_exact`], and stops as soon as [`Growth::accepted`] reaches `accepted`
+    /// (returning [`Outcome::Limit`]). With `limit = inf` and
+    /// [`Growth::allow_log_clock`] the clock may pass the largest `f64`: it goes on as a log
+    /// clock ([`Growth::log10_time`]).
+    pub fn run_exact_until(&mut self, rng: &mut Stream, limit: f64, accepted: u64) -> Outcome {
+        while self.accepted < accepted {
             match self.step_exact(rng, limit) {
                 Outcome::Accepted(_) => continue,
                 o => return o,
             }
         }
+        Outcome::Limit
     }
 
     /// One synchronous CA timestep: every surface site with at least `b_min` occupied

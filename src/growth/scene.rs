@@ -206,8 +206,17 @@ pub struct SceneConfig {
     /// Size of the initial shape (cell widths): square side, disc diameter, cosine amplitude
     /// or flat thickness.
     pub start: f64,
-    /// Timesteps to run.
+    /// Timesteps to run (the clock limit). 0: no clock limit, allowed only with `events` or
+    /// `until_occupied` and a sampler other than rejection (whose clock is its work).
     pub steps: u64,
+    /// Stop after this many accepted events (cells added by the sampler), if reached before
+    /// `steps`. Default: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub events: Option<u64>,
+    /// Stop when this fraction of the lattice's cells is occupied, if reached before `steps`
+    /// and `events`; in `(0, 1]`. Default: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until_occupied: Option<f64>,
     /// Timesteps at which to keep a snapshot of the lattice, increasing, at most `steps`.
     pub snapshots: Vec<u64>,
     /// Sampler: rejection (the paper's), exact (rejection-free) or ca (deterministic).
@@ -247,6 +256,8 @@ impl SceneConfig {
             shape: Shape::Square,
             start: 20.0,
             steps: 50_000,
+            events: None,
+            until_occupied: None,
             snapshots: vec![1000, 8000, 20_000, 50_000],
             sampler: SamplerKind::Exact,
             ca_rule: vec![1],
@@ -343,8 +354,35 @@ impl SceneConfig {
     pub fn validate(&self) -> Result<(), SceneError> {
         let lattice = Lattice::new(self.lattice, self.width, self.height, self.boundary)?;
         Sticking::new(self.n, self.lattice.z())?;
-        if self.steps == 0 || self.steps > MAX_STEPS {
-            return Err(range("steps", self.steps, format!("1 to {MAX_STEPS}")));
+        let event_stop = self.events.is_some() || self.until_occupied.is_some();
+        if self.steps > MAX_STEPS || (self.steps == 0 && !event_stop) {
+            return Err(range(
+                "steps",
+                self.steps,
+                format!("1 to {MAX_STEPS} (0, no clock limit, only with events or until_occupied)"),
+            ));
+        }
+        if self.steps == 0 && self.sampler == SamplerKind::Rejection {
+            return Err(range(
+                "steps",
+                self.steps,
+                "1 to 2^53 with the rejection sampler (one pick per timestep: its clock is its \
+                 work); the exact sampler runs the same process with no clock limit",
+            ));
+        }
+        if let Some(e) = self.events {
+            if e == 0 || e > MAX_STEPS {
+                return Err(range("events", e, format!("1 to {MAX_STEPS}")));
+            }
+        }
+        if let Some(f) = self.until_occupied {
+            if !(f > 0.0 && f <= 1.0) {
+                return Err(range(
+                    "until_occupied",
+                    f,
+                    "a fraction of the lattice's cells, above 0 and at most 1",
+                ));
+            }
         }
         for w in self.snapshots.windows(2) {
             if w[1] <= w[0] {
@@ -356,7 +394,7 @@ impl SceneConfig {
             }
         }
         if let Some(&last) = self.snapshots.last() {
-            if last > self.steps {
+            if self.steps > 0 && last > self.steps {
                 return Err(range(
                     "snapshots",
                     last,
@@ -475,6 +513,10 @@ pub enum StopReason {
     Stalled,
     /// The next acceptance lies beyond the largest representable timestep.
     ClockOverflow,
+    /// The requested number of accepted events was reached (`events`).
+    Events,
+    /// The requested occupied fraction was reached (`until_occupied`).
+    Occupied,
 }
 
 /// Values of the scene's observables at one time (`None` where not defined).
@@ -536,6 +578,12 @@ pub struct RunResult {
     pub setup_s: f64,
     /// Seconds spent running (sampling and observing).
     pub elapsed_s: f64,
+    /// Of `elapsed_s`, seconds spent observing (series, snapshots, the final observables).
+    pub observe_s: f64,
+    /// True when the final clock is an exact whole number of timesteps (at most `2^53`).
+    pub clock_exact: bool,
+    /// Base-10 log of the final clock: finite even past the largest `f64`.
+    pub log10_clock: f64,
     /// Bytes held by the run's state.
     pub memory_bytes: usize,
 }
@@ -550,6 +598,20 @@ pub trait RunHooks {
     }
     /// The state at one of the frame times.
     fn frame(&mut self, _time: f64, _g: &Growth) {}
+    /// Runs stopped by `events` or `until_occupied`: the number of evenly spaced event
+    /// counts at which [`RunHooks::frame`] is called (instead of [`RunHooks::frame_times`]).
+    fn frame_count(&self) -> usize {
+        0
+    }
+    /// Whether the observables time series is wanted (it costs a pass over the lattice per
+    /// point); the result's `series` then holds only the start when not.
+    fn wants_series(&self) -> bool {
+        true
+    }
+    /// Whether snapshots of the lattice are wanted.
+    fn wants_snapshots(&self) -> bool {
+        true
+    }
 }
 
 /// Hooks that do nothing.
@@ -592,20 +654,93 @@ const PROGRESS_TICKS: u64 = 100;
 
 /// Runs a scene. The result depends only on the configuration (not on hooks, progress or
 /// frames): the exact sampler keeps its next acceptance across pauses.
+///
+/// With `events` or `until_occupied` the run stops at the first of those and `steps` (see
+/// [`SceneConfig::steps`]); its checkpoints (series, progress) are then spaced in accepted
+/// events, and the final state is the last snapshot.
 pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, SceneError> {
     let t0 = Instant::now();
     let mut g = cfg.build()?;
     let setup_s = t0.elapsed().as_secs_f64();
+    let target = event_target(cfg, &g)?;
     let t1 = Instant::now();
-    let steps = cfg.steps as f64;
     let mut rng = crate::engine::rng::stream(cfg.seed);
+    let mut observe_s = 0.0;
+    let (snapshots, series, stop) = match target {
+        None => run_by_clock(cfg, &mut g, &mut rng, hooks, &mut observe_s),
+        Some(t) => run_by_events(cfg, &mut g, &mut rng, hooks, t, &mut observe_s),
+    };
+    let t2 = Instant::now();
+    let last = observe(cfg, &g);
+    observe_s += t2.elapsed().as_secs_f64();
+    Ok(RunResult {
+        config: cfg.clone(),
+        snapshots,
+        series,
+        last,
+        stop,
+        setup_s,
+        elapsed_s: t1.elapsed().as_secs_f64(),
+        observe_s,
+        memory_bytes: g.memory_bytes(),
+        clock_exact: g.time_exact(),
+        log10_clock: g.log10_time(),
+    })
+}
 
+/// The accepted-event count at which an event-stopped run ends, and why; `None` for a run
+/// stopped by its clock alone.
+fn event_target(cfg: &SceneConfig, g: &Growth) -> Result<Option<(u64, StopReason)>, SceneError> {
+    let mut t: Option<(u64, StopReason)> = cfg.events.map(|e| (e, StopReason::Events));
+    if let Some(f) = cfg.until_occupied {
+        let cells = g.lattice().len();
+        let want = (f * cells as f64).ceil() as usize;
+        if want <= g.occupied() {
+            return Err(range(
+                "until_occupied",
+                f,
+                format!(
+                    "above the initial occupied fraction {:.6} ({} of {} cells) and at most 1",
+                    g.occupied() as f64 / cells as f64,
+                    g.occupied(),
+                    cells
+                ),
+            ));
+        }
+        let e = (want - g.occupied()) as u64;
+        if t.is_none_or(|(x, _)| e < x) {
+            t = Some((e, StopReason::Occupied));
+        }
+    }
+    Ok(t)
+}
+
+type Recorded = (Vec<Snapshot>, Vec<Observation>, StopReason);
+
+/// The run stopped by its clock: checkpoints at snapshot, series, progress and frame times.
+fn run_by_clock(
+    cfg: &SceneConfig,
+    g: &mut Growth,
+    rng: &mut crate::engine::rng::Stream,
+    hooks: &mut dyn RunHooks,
+    observe_s: &mut f64,
+) -> Recorded {
+    let steps = cfg.steps as f64;
     // Checkpoints: snapshots, series points, progress ticks and frames.
-    let series_times: Vec<f64> = (1..=cfg.series as u64)
-        .map(|k| (cfg.steps as u128 * k as u128 / cfg.series as u128) as f64)
-        .collect();
+    let series_times: Vec<f64> = if hooks.wants_series() {
+        (1..=cfg.series as u64)
+            .map(|k| (cfg.steps as u128 * k as u128 / cfg.series as u128) as f64)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let snap_times: &[u64] = if hooks.wants_snapshots() {
+        &cfg.snapshots
+    } else {
+        &[]
+    };
     let frames = hooks.frame_times();
-    let mut checkpoints: Vec<f64> = cfg.snapshots.iter().map(|&t| t as f64).collect();
+    let mut checkpoints: Vec<f64> = snap_times.iter().map(|&t| t as f64).collect();
     checkpoints.extend(&series_times);
     checkpoints.extend(
         (1..=PROGRESS_TICKS)
@@ -618,22 +753,19 @@ pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, Sce
     checkpoints.dedup();
 
     let mut snapshots = Vec::new();
-    let mut series = vec![observe(cfg, &g)];
+    let t = Instant::now();
+    let mut series = vec![observe(cfg, g)];
+    *observe_s += t.elapsed().as_secs_f64();
     let mut stop = StopReason::Completed;
     let mut next_snap = 0;
     let mut next_series = 0;
     let mut next_frame = 0;
     for &cp in &checkpoints {
         if stop == StopReason::Completed || stop == StopReason::Stalled {
-            let outcome = advance(cfg, &mut g, &mut rng, cp);
-            match outcome {
-                Outcome::Exhausted => stop = StopReason::LatticeFull,
-                Outcome::Stalled => stop = StopReason::Stalled,
-                Outcome::ClockOverflow => stop = StopReason::ClockOverflow,
-                _ => {}
-            }
+            stop = stop_of(advance(cfg, g, rng, cp, u64::MAX), stop);
         }
-        while next_snap < cfg.snapshots.len() && cfg.snapshots[next_snap] as f64 <= cp {
+        let t = Instant::now();
+        while next_snap < snap_times.len() && snap_times[next_snap] as f64 <= cp {
             snapshots.push(Snapshot {
                 time: if stop == StopReason::Completed || stop == StopReason::Stalled {
                     cp
@@ -645,43 +777,144 @@ pub fn run(cfg: &SceneConfig, hooks: &mut dyn RunHooks) -> Result<RunResult, Sce
             next_snap += 1;
         }
         while next_series < series_times.len() && series_times[next_series] <= cp {
-            series.push(observe(cfg, &g));
+            series.push(observe(cfg, g));
             next_series += 1;
         }
+        *observe_s += t.elapsed().as_secs_f64();
         while next_frame < frames.len() && frames[next_frame] <= cp {
-            hooks.frame(frames[next_frame], &g);
+            hooks.frame(frames[next_frame], g);
             next_frame += 1;
         }
         hooks.progress(g.time().min(steps), steps);
     }
-    let last = observe(cfg, &g);
-    Ok(RunResult {
-        config: cfg.clone(),
-        snapshots,
-        series,
-        last,
-        stop,
-        setup_s,
-        elapsed_s: t1.elapsed().as_secs_f64(),
-        memory_bytes: g.memory_bytes(),
-    })
+    (snapshots, series, stop)
 }
 
-/// Advances the run to time `limit` with the configured sampler.
+/// The stop reason after an [`advance`] that ended with `o` (the run so far: `stop`).
+fn stop_of(o: Outcome, stop: StopReason) -> StopReason {
+    match o {
+        Outcome::Exhausted => StopReason::LatticeFull,
+        Outcome::Stalled => StopReason::Stalled,
+        Outcome::ClockOverflow => StopReason::ClockOverflow,
+        _ => stop,
+    }
+}
+
+/// The run stopped after `target.0` accepted events (or by its clock or a full lattice
+/// first): checkpoints at evenly spaced event counts; snapshots at their times while the
+/// clock passes them, and the final state.
+fn run_by_events(
+    cfg: &SceneConfig,
+    g: &mut Growth,
+    rng: &mut crate::engine::rng::Stream,
+    hooks: &mut dyn RunHooks,
+    target: (u64, StopReason),
+    observe_s: &mut f64,
+) -> Recorded {
+    let (events, reason) = target;
+    // steps = 0: no clock limit (refused for the rejection sampler by validate).
+    let limit = match cfg.steps {
+        0 => f64::INFINITY,
+        s => s as f64,
+    };
+    g.allow_log_clock(limit.is_infinite());
+    let ticks = if hooks.wants_series() {
+        cfg.series as u64
+    } else {
+        0
+    };
+    let spaced = |n: u64| (1..=n).map(move |k| (events as u128 * k as u128 / n as u128) as u64);
+    let frames: Vec<u64> = spaced(hooks.frame_count() as u64).collect();
+    let mut checkpoints: Vec<u64> = spaced(ticks)
+        .chain(spaced(PROGRESS_TICKS))
+        .chain(frames.iter().copied())
+        .filter(|&e| e > 0)
+        .collect();
+    checkpoints.push(events);
+    checkpoints.sort_unstable();
+    checkpoints.dedup();
+    let series_at: Vec<u64> = spaced(ticks).collect();
+    let snap_times: Vec<u64> = if hooks.wants_snapshots() {
+        cfg.snapshots.clone()
+    } else {
+        Vec::new()
+    };
+    let start = g.accepted();
+    let mut snapshots = Vec::new();
+    let t = Instant::now();
+    let mut series = vec![observe(cfg, g)];
+    *observe_s += t.elapsed().as_secs_f64();
+    let mut next_snap = 0;
+    let mut next_series = 0;
+    let mut next_frame = 0;
+    let mut stop = reason;
+    if !frames.is_empty() {
+        hooks.frame(g.time(), g);
+    }
+    'run: for &cp in &checkpoints {
+        loop {
+            let snap_at = snap_times.get(next_snap).map(|&t| t as f64);
+            let lim = snap_at.map_or(limit, |t| t.min(limit));
+            let o = advance(cfg, g, rng, lim, start + cp);
+            let s = stop_of(o, StopReason::Completed);
+            if s != StopReason::Completed {
+                stop = s;
+                break 'run;
+            }
+            if g.accepted() >= start + cp {
+                break;
+            }
+            // The clock reached `lim`: a snapshot time, or the clock limit.
+            if snap_at.is_some_and(|t| t <= g.time()) {
+                let t = Instant::now();
+                snapshots.push(Snapshot {
+                    time: g.time(),
+                    states: g.field_states(),
+                });
+                *observe_s += t.elapsed().as_secs_f64();
+                next_snap += 1;
+            } else {
+                stop = StopReason::Completed;
+                break 'run;
+            }
+        }
+        let t = Instant::now();
+        while next_series < series_at.len() && series_at[next_series] <= cp {
+            series.push(observe(cfg, g));
+            next_series += 1;
+        }
+        *observe_s += t.elapsed().as_secs_f64();
+        while next_frame < frames.len() && frames[next_frame] <= cp {
+            hooks.frame(g.time(), g);
+            next_frame += 1;
+        }
+        hooks.progress((g.accepted() - start) as f64, events as f64);
+    }
+    if hooks.wants_snapshots() {
+        snapshots.push(Snapshot {
+            time: g.time(),
+            states: g.field_states(),
+        });
+    }
+    (snapshots, series, stop)
+}
+
+/// Advances the run to time `limit`, or until `accepted` events, with the configured sampler.
 fn advance(
     cfg: &SceneConfig,
     g: &mut Growth,
     rng: &mut crate::engine::rng::Stream,
     limit: f64,
+    accepted: u64,
 ) -> Outcome {
-    if g.time() >= limit {
+    if g.time() >= limit && limit.is_finite() {
         return Outcome::Limit;
     }
     match cfg.sampler {
-        SamplerKind::Rejection => g.run_rejection(rng, limit),
-        SamplerKind::Exact => g.run_exact(rng, limit),
+        SamplerKind::Rejection => g.run_rejection_until(rng, limit, accepted),
+        SamplerKind::Exact => g.run_exact_until(rng, limit, accepted),
         SamplerKind::Ca => {
-            while g.time() < limit {
+            while g.time() < limit && g.accepted() < accepted {
                 if g.surface().is_empty() {
                     return Outcome::Exhausted;
                 }

@@ -86,6 +86,11 @@ pub struct Growth {
     pub(crate) time: f64,
     /// The time of the next acceptance, drawn by the exact sampler before a pause.
     pub(crate) pending: Option<f64>,
+    /// Natural log of the clock once it has passed the largest `f64` (unbounded exact runs
+    /// only); `time` is then `inf`.
+    pub(crate) log_clock: Option<f64>,
+    /// Whether an unbounded exact run may go on past the largest `f64` on a log clock.
+    pub(crate) log_clock_allowed: bool,
     pub(crate) accepted: u64,
     pub(crate) occupied: usize,
 }
@@ -259,6 +264,8 @@ impl Growth {
             tree,
             time: 0.0,
             pending: None,
+            log_clock: None,
+            log_clock_allowed: false,
             accepted: 0,
             occupied: 0,
         })
@@ -285,6 +292,24 @@ impl Growth {
     /// large `n` needs (a pick succeeds with probability as low as `(1/z)^n`).
     pub fn time(&self) -> f64 {
         self.time
+    }
+    /// Lets the exact sampler, run with no clock limit (`limit = inf`), go on past the largest
+    /// `f64` on a log clock ([`Growth::log10_time`]) instead of stopping with
+    /// [`ClockOverflow`](crate::growth::sampler::Outcome::ClockOverflow). Off by default.
+    pub fn allow_log_clock(&mut self, on: bool) {
+        self.log_clock_allowed = on;
+    }
+    /// The base-10 log of the clock, finite however far an unbounded run took it (past the
+    /// largest `f64`, where [`Growth::time`] is `inf`); `-inf` at time 0.
+    pub fn log10_time(&self) -> f64 {
+        match self.log_clock {
+            Some(l) => l / std::f64::consts::LN_10,
+            None => self.time.log10(),
+        }
+    }
+    /// True while [`Growth::time`] is an exact whole number of timesteps (at most `2^53`).
+    pub fn time_exact(&self) -> bool {
+        self.log_clock.is_none() && self.time <= 9_007_199_254_740_992.0
     }
     /// Accepted events (cells added by the samplers, not counting the initial shape).
     pub fn accepted(&self) -> u64 {
