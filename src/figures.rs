@@ -3,8 +3,16 @@
 //! Each model lists its own figures ([`crate::growth::figures::FIGURES`],
 //! [`crate::ripple::FIGURES`], ...); [`all`] gathers them for `cellsurf figures`. Nothing in
 //! the library imports this module: it sits above every model.
+//!
+//! The figures of [`MEASURED`] plot measured run times, which differ from run to run. They
+//! are drawn from their committed tables (`figures/data/NAME.csv` and `.toml`, see
+//! [`ChartTable`]) by [`make`], so that regenerating the figures gives the same bytes;
+//! `cellsurf converge MODEL` re-measures them ([`make`] with `remeasure`), writing table and
+//! figure anew.
 
-use crate::plot::Figure;
+use std::path::{Path, PathBuf};
+
+use crate::plot::{ChartTable, Figure, FigureError, PlotError, record_charts};
 
 /// Every figure of every model: the growth paper's, then the related models'.
 pub fn all() -> impl Iterator<Item = &'static Figure> {
@@ -21,4 +29,44 @@ pub fn all() -> impl Iterator<Item = &'static Figure> {
 /// The figure called `name`.
 pub fn find(name: &str) -> Option<&'static Figure> {
     all().find(|f| f.name == name)
+}
+
+/// The figures whose charts plot measured run times, by model (the `cellsurf converge`
+/// argument).
+pub const MEASURED: &[(&str, &str)] = &[
+    ("growth", "growth_error_vs_time"),
+    ("dunes", "dunes_error_vs_time"),
+    ("raytrace", "raytrace_error_vs_time"),
+    ("ripple", "ripple_error_vs_time"),
+    ("windripples", "windripples_error_vs_time"),
+];
+
+/// Makes figure `f` in `dir`. A [`MEASURED`] figure is drawn from its table in `dir/data/`
+/// when there is one and `remeasure` is false; otherwise it is measured and its table written
+/// (the table files are then among those returned).
+pub fn make(f: &Figure, dir: &Path, remeasure: bool) -> Result<Vec<PathBuf>, FigureError> {
+    if !MEASURED.iter().any(|(_, n)| *n == f.name) {
+        return f.make(dir);
+    }
+    let png = dir.join(format!("{}.png", f.name));
+    if !remeasure {
+        if let Some(t) = ChartTable::read(dir, f.name)? {
+            std::fs::create_dir_all(dir).map_err(PlotError::Io)?;
+            t.draw(&png)?;
+            return Ok(vec![png]);
+        }
+    }
+    record_charts(true);
+    let made = f.make(dir);
+    let recorded = record_charts(false);
+    let mut files = made?;
+    let (_, table) = recorded
+        .into_iter()
+        .rev()
+        .find(|(p, _)| *p == png)
+        .ok_or_else(|| {
+            FigureError::Model(format!("{} drew no chart into {}", f.name, png.display()))
+        })?;
+    files.extend(table.write(dir, f.name)?);
+    Ok(files)
 }

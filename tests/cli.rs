@@ -156,3 +156,63 @@ fn failed_run_leaves_no_partial_file() {
     assert!(!out.status.success());
     assert!(!png.exists());
 }
+
+/// Figures of measured run times are drawn from their committed table: regenerating them
+/// gives the same bytes; `cellsurf converge MODEL` re-measures table and figure.
+#[test]
+fn measured_figures_redraw_from_their_table_byte_for_byte() {
+    let dir = common::tmp_in("converge", "figs");
+    let d = dir.to_str().unwrap();
+    let out = common::cellsurf(&["converge", "raytrace", "--out-dir", d]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let png = dir.join("raytrace_error_vs_time.png");
+    let csv = dir.join("data/raytrace_error_vs_time.csv");
+    let first = std::fs::read(&png).unwrap();
+    let table = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        table.lines().filter(|l| !l.starts_with('#')).count() > 5,
+        "{table}"
+    );
+    for _ in 0..2 {
+        let out = common::cellsurf(&[
+            "figures",
+            "--only",
+            "raytrace_error_vs_time",
+            "--out-dir",
+            d,
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(
+            std::fs::read(&png).unwrap(),
+            first,
+            "redrawn from the table"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&csv).unwrap(),
+            table,
+            "table untouched"
+        );
+    }
+    // A damaged table is an error naming the file, not a silent re-measurement.
+    std::fs::write(&csv, "chart,series,x,y\n0,0,one,2\n").unwrap();
+    let out = common::cellsurf(&[
+        "figures",
+        "--only",
+        "raytrace_error_vs_time",
+        "--out-dir",
+        d,
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("raytrace_error_vs_time.csv"));
+    let out = common::cellsurf(&["converge", "dunes", "--seeds", "5"]);
+    assert!(!out.status.success());
+    std::fs::remove_dir_all(dir.parent().unwrap()).ok();
+}

@@ -47,9 +47,8 @@ pub fn run(a: FiguresArgs) -> Result<()> {
     let t0 = Instant::now();
     for f in chosen {
         let t = Instant::now();
-        let files = f
-            .make(&a.out_dir)
-            .with_context(|| format!("figure {}", f.name))?;
+        let files =
+            figures::make(f, &a.out_dir, false).with_context(|| format!("figure {}", f.name))?;
         for p in files {
             println!("{}  ({:.2} s)", p.display(), t.elapsed().as_secs_f64());
         }

@@ -99,16 +99,19 @@ pub struct GrowArgs {
 
 #[derive(Args)]
 pub struct ConvergeArgs {
-    /// Which study: growth (flame, deposition, crystal; both samplers).
-    #[arg(value_parser = ["growth"])]
+    /// Which study to re-measure: growth (flame, deposition, crystal; both samplers), dunes,
+    /// raytrace, ripple or windripples. Writes the figure MODEL_error_vs_time.png and its
+    /// table (data/MODEL_error_vs_time.csv and .toml) into --out-dir; `cellsurf figures`
+    /// then draws the figure from that table.
+    #[arg(value_parser = ["growth", "dunes", "raytrace", "ripple", "windripples"])]
     study: String,
-    /// Independent seeds per curve (at least 3).
+    /// Folder of the figure and its table.
+    #[arg(long, default_value = "figures")]
+    out_dir: PathBuf,
+    /// growth only: independent seeds per curve, 3 to 10000.
     #[arg(long, default_value_t = figures::CONVERGE_SEEDS)]
     seeds: usize,
-    /// Figure to write.
-    #[arg(long, default_value = "figures/growth_error_vs_time.png")]
-    out: PathBuf,
-    /// Print the curves as JSON.
+    /// growth only: print the curves as JSON.
     #[arg(long)]
     json: bool,
 }
@@ -467,16 +470,44 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
 }
 
 pub fn converge(a: ConvergeArgs) -> Result<()> {
+    if a.study != "growth" {
+        if a.json || a.seeds != figures::CONVERGE_SEEDS {
+            bail!("--seeds and --json are for `converge growth` only");
+        }
+        let name = format!("{}_error_vs_time", a.study);
+        let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;
+        let t = Instant::now();
+        for p in cellsurf::figures::make(f, &a.out_dir, true)? {
+            eprintln!("wrote {}", p.display());
+        }
+        eprintln!(
+            "{} re-measured in {:.1} s",
+            a.study,
+            t.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
     if a.seeds < 3 || a.seeds > 10_000 {
         bail!("--seeds = {} is out of range: 3 to 10000", a.seeds);
     }
     let curves = converge::converge_growth(a.seeds)?;
-    if let Some(dir) = a.out.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)?;
-        }
+    std::fs::create_dir_all(&a.out_dir)
+        .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
+    let name = "growth_error_vs_time";
+    let out = a.out_dir.join(format!("{name}.png"));
+    cellsurf::plot::set_png_parameters(Some(format!("figure = \"{name}\"")));
+    cellsurf::plot::record_charts(true);
+    let drawn = figures::draw_error_vs_time(&out, &curves);
+    let recorded = cellsurf::plot::record_charts(false);
+    cellsurf::plot::set_png_parameters(None);
+    drawn?;
+    let mut written = vec![out.clone()];
+    if let Some((_, table)) = recorded.into_iter().last() {
+        written.extend(table.write(&a.out_dir, name)?);
     }
-    figures::draw_error_vs_time(&a.out, &curves)?;
+    for p in &written {
+        eprintln!("wrote {}", p.display());
+    }
     if a.json {
         println!("{}", serde_json::to_string(&curves)?);
         return Ok(());
@@ -498,6 +529,5 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
             );
         }
     }
-    println!("wrote {}", a.out.display());
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! A grid of line charts with legends in one PNG.
 
+use std::cell::RefCell;
 use std::path::Path;
 
 use std::ops::Range;
@@ -75,6 +76,7 @@ pub fn line_charts(
     if charts.is_empty() {
         return Err(PlotError::invalid("charts", "is empty"));
     }
+    note(path, title, charts, cols, chart_px);
     if cols == 0 {
         return Err(PlotError::invalid("cols", "must be positive"));
     }
@@ -549,4 +551,56 @@ mod unit {
         let (a, b) = axis_range([5.0].into_iter(), true);
         assert!(a > 0.0 && a < 5.0 && b > 5.0);
     }
+}
+
+/// Everything [`line_charts`] drew: redrawing it gives the same PNG.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChartTable {
+    /// The figure's title.
+    pub title: String,
+    /// Charts per row.
+    pub cols: usize,
+    /// Size of each chart, pixels.
+    pub chart_px: (u32, u32),
+    /// The parameters text recorded in the PNG.
+    pub png_parameters: Option<String>,
+    /// The charts.
+    pub charts: Vec<Chart>,
+}
+
+thread_local! {
+    static RECORDED: RefCell<Option<Vec<(std::path::PathBuf, ChartTable)>>> =
+        const { RefCell::new(None) };
+}
+
+/// Starts (`true`) or stops (`false`) recording this thread's [`line_charts`] calls (output
+/// file and everything drawn, see [`ChartTable`]); stopping returns what was recorded since
+/// the start.
+pub fn record_charts(on: bool) -> Vec<(std::path::PathBuf, ChartTable)> {
+    RECORDED.with(|r| {
+        let mut r = r.borrow_mut();
+        let got = r.take().unwrap_or_default();
+        if on {
+            *r = Some(Vec::new());
+        }
+        got
+    })
+}
+
+/// Called by [`line_charts`]: keeps its output file and inputs while recording.
+fn note(path: &Path, title: &str, charts: &[Chart], cols: usize, chart_px: (u32, u32)) {
+    RECORDED.with(|r| {
+        if let Some(v) = r.borrow_mut().as_mut() {
+            v.push((
+                path.to_path_buf(),
+                ChartTable {
+                    title: title.to_string(),
+                    cols,
+                    chart_px,
+                    png_parameters: super::png_parameters(),
+                    charts: charts.to_vec(),
+                },
+            ));
+        }
+    });
 }

@@ -35,11 +35,12 @@ pub mod field;
 mod figure;
 mod panels;
 mod raster;
+pub mod table;
 #[cfg(test)]
 mod tests;
 
 pub use animation::GifWriter;
-pub use charts::{Chart, Series, line_charts};
+pub use charts::{Chart, ChartTable, Series, line_charts, record_charts};
 pub use field::{ColorRamp, Mark, Sheet};
 pub use figure::{Figure, FigureError};
 pub use panels::{Panel, lattice_panels};
@@ -154,4 +155,9 @@ thread_local! {
 /// `Software` chunk with the cellsurf version.
 pub fn set_png_parameters(text: Option<String>) {
     PNG_PARAMETERS.with(|m| *m.borrow_mut() = text);
+}
+
+/// The parameters text in force on this thread ([`set_png_parameters`]).
+pub fn png_parameters() -> Option<String> {
+    PNG_PARAMETERS.with(|m| m.borrow().clone())
 }
