@@ -12,6 +12,7 @@
 //! - [`rng`]: [`Stream`](rng::Stream), the Xoshiro256++ stream every model draws from.
 //! - [`stats`]: mean and standard error over seeds, error-against-run-time points, power-law
 //!   slopes.
+//! - [`wrap`]: periodic indices and a floor without a library call, for hot loops.
 //! - [`io`]: [`write_atomic`](io::write_atomic) and the output checks: no reader ever sees a
 //!   partial file.
 //!
@@ -26,6 +27,7 @@ pub mod rng;
 pub mod stats;
 pub mod sumtree;
 pub mod surface;
+pub mod wrap;
 
 /// The crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -30,6 +30,7 @@ use rustfft::num_complex::Complex;
 use super::TileError;
 use super::seam::{SlopeAcc, SlopeStats};
 use crate::engine::rng;
+use crate::engine::wrap::{floor, wrap};
 use crate::ripple::spectrum::fft2;
 
 /// The shape of the dune spectrum.
@@ -277,9 +278,9 @@ impl DuneField {
     /// relief and in the acoustic normals).
     pub fn height(&self, x: f64, y: f64) -> f64 {
         let (fx, fy) = (x / self.dx, y / self.dy);
-        let (x0, y0) = (fx.floor(), fy.floor());
+        let (x0, y0) = (floor(fx), floor(fy));
         let (tx, ty) = (fx - x0, fy - y0);
-        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let (nx, ny) = (self.nx, self.ny);
         let cr = |p: [f64; 4], t: f64| {
             p[1] + 0.5
                 * t
@@ -287,12 +288,12 @@ impl DuneField {
                     + t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3]
                         + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])))
         };
+        let i: [usize; 4] = std::array::from_fn(|d| wrap(x0 as i64 + d as i64 - 1, nx));
         let mut col = [0.0; 4];
         for (k, c) in col.iter_mut().enumerate() {
-            let j = (y0 as i64 + k as i64 - 1).rem_euclid(ny) as usize;
+            let j = wrap(y0 as i64 + k as i64 - 1, ny);
             let row = &self.h[j * self.nx..(j + 1) * self.nx];
-            let at = |d: i64| row[(x0 as i64 + d).rem_euclid(nx) as usize];
-            *c = cr([at(-1), at(0), at(1), at(2)], tx);
+            *c = cr([row[i[0]], row[i[1]], row[i[2]], row[i[3]]], tx);
         }
         cr(col, ty)
     }

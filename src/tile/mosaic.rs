@@ -17,6 +17,7 @@ use super::seam::edge_weights;
 use super::stream::RowSource;
 use super::tileset::{Tile, check_pool};
 use crate::engine::rng;
+use crate::engine::wrap::{floor, wrap};
 
 /// Largest mosaic side in bins (NetCDF-3 dimensions are 32-bit signed).
 pub const MAX_SIDE: usize = i32::MAX as usize;
@@ -70,6 +71,13 @@ pub struct Mosaic {
     /// Per column of the mosaic: (cell, neighbour cell, column in the tile, neighbour weight):
     /// one row's worth of memory, so that rows are filled without divisions or cosines.
     columns: Vec<(u32, u32, u32, f32)>,
+    /// The same per row of the mosaic (one column's worth), for [`Mosaic::value`] and
+    /// [`Mosaic::sample`] at any point without divisions or cosines.
+    rows: Vec<(u32, u32, u32, f32)>,
+    /// Every tile's elevation, one after another (the pool is small), and per cell of the
+    /// grid the offset of its tile there: one load per bin instead of three.
+    elevations: Vec<f32>,
+    offsets: Vec<usize>,
 }
 
 impl Mosaic {
@@ -162,6 +170,17 @@ impl Mosaic {
                 (c as u32, c2 as u32, u as u32, o)
             })
             .collect();
+        let rows = (0..my * ny)
+            .map(|y| {
+                let (c, c2, v, o) = Self::axis(y, ny, my, band);
+                (c as u32, c2 as u32, v as u32, o)
+            })
+            .collect();
+        let elevations: Vec<f32> = tiles
+            .iter()
+            .flat_map(|t| t.elevation.iter().copied())
+            .collect();
+        let offsets = grid.iter().map(|&g| g as usize * nx * ny).collect();
         Ok(Mosaic {
             tiles,
             mx,
@@ -171,6 +190,9 @@ impl Mosaic {
             grid,
             band,
             columns,
+            rows,
+            elevations,
+            offsets,
         })
     }
 
@@ -218,17 +240,24 @@ impl Mosaic {
     #[inline]
     pub fn value(&self, x: usize, y: usize) -> f32 {
         let (w, h) = self.size();
-        let (x, y) = (x % w, y % h);
-        let (ci, ci2, u, ox) = Self::axis(x, self.nx, self.mx, self.band);
-        let (cj, cj2, v, oy) = Self::axis(y, self.ny, self.my, self.band);
-        let e = v * self.nx + u;
-        let t = |i, j| self.tiles[self.cell(i, j)].elevation[e];
+        self.value_in(x % w, y % h)
+    }
+
+    /// [`Mosaic::value`] of a bin inside the mosaic (`x < width`, `y < height`), from the
+    /// column and row tables.
+    #[inline(always)]
+    fn value_in(&self, x: usize, y: usize) -> f32 {
+        let (ci, ci2, u, ox) = self.columns[x];
+        let (cj, cj2, v, oy) = self.rows[y];
+        let e = v as usize * self.nx + u as usize;
+        let (r1, r2) = (cj as usize * self.mx, cj2 as usize * self.mx);
+        let t = |r: usize, i: u32| self.elevations[self.offsets[r + i as usize] + e];
         if ox == 0.0 && oy == 0.0 {
-            return t(ci, cj);
+            return t(r1, ci);
         }
         // (1 - o) a + o b written as a + o (b - a): exact where the tiles agree
-        let lo = t(ci, cj) + ox * (t(ci2, cj) - t(ci, cj));
-        let hi = t(ci, cj2) + ox * (t(ci2, cj2) - t(ci, cj2));
+        let lo = t(r1, ci) + ox * (t(r1, ci2) - t(r1, ci));
+        let hi = t(r2, ci) + ox * (t(r2, ci2) - t(r2, ci));
         lo + oy * (hi - lo)
     }
 
@@ -237,12 +266,13 @@ impl Mosaic {
     #[inline]
     pub fn sample(&self, x: f64, y: f64) -> f64 {
         let (w, h) = self.size();
-        let (fx, fy) = (x.floor(), y.floor());
+        let (fx, fy) = (floor(x), floor(y));
         let (ax, ay) = (x - fx, y - fy);
-        let x0 = (fx as i64).rem_euclid(w as i64) as usize;
-        let y0 = (fy as i64).rem_euclid(h as i64) as usize;
-        let (x1, y1) = ((x0 + 1) % w, (y0 + 1) % h);
-        let v = |x, y| self.value(x, y) as f64;
+        let x0 = wrap(fx as i64, w);
+        let y0 = wrap(fy as i64, h);
+        let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
+        let y1 = if y0 + 1 == h { 0 } else { y0 + 1 };
+        let v = |x, y| self.value_in(x, y) as f64;
         (1.0 - ay) * ((1.0 - ax) * v(x0, y0) + ax * v(x1, y0))
             + ay * ((1.0 - ax) * v(x0, y1) + ax * v(x1, y1))
     }
@@ -278,7 +308,7 @@ impl RowSource for Mosaic {
         let base = v * self.nx;
         for (o, &(ci, ci2, u, ox)) in out.iter_mut().zip(&self.columns) {
             let e = base + u as usize;
-            let t = |r: usize, i: u32| self.tiles[self.grid[r + i as usize] as usize].elevation[e];
+            let t = |r: usize, i: u32| self.elevations[self.offsets[r + i as usize] + e];
             *o = if ox == 0.0 && oy == 0.0 {
                 t(r1, ci)
             } else {
