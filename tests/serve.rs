@@ -329,3 +329,48 @@ fn frame_rate_256_hex_at_1e4_events() {
         assert!(fps >= 30.0, "{fps} frames/s");
     }
 }
+
+/// The same through the server: a playing session of a 256 x 256 hexagonal torus at 10^4
+/// events per frame, frames counted at the client for two seconds (reset whenever the lattice
+/// fills). The server sends at most 40 frames/s; release builds must deliver 30.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn server_streams_256_hex_at_30_frames_per_second() {
+    let addr = start().await;
+    let mut ws = connect(
+        &addr,
+        "/ws/growth?preset=fig5&width=256&height=256&speed=10000",
+    )
+    .await;
+    next_of(&mut ws, "stats").await;
+    send(&mut ws, json!({"cmd": "play"})).await;
+    // Frames that ran events, and the time between consecutive ones (the gaps of a reset,
+    // when the lattice has filled, left out).
+    let t0 = Instant::now();
+    let (mut running, mut active, mut events, mut server_fps) = (0u32, 0.0, 0u64, 0.0);
+    let mut last: Option<Instant> = None;
+    while t0.elapsed() < Duration::from_secs(2) {
+        let (s, _) = next_of(&mut ws, "stats").await;
+        let e = s["events"].as_u64().unwrap();
+        server_fps = s["fps"].as_f64().unwrap();
+        if e > 0 {
+            let now = Instant::now();
+            if let Some(prev) = last {
+                running += 1;
+                active += (now - prev).as_secs_f64();
+            }
+            last = Some(now);
+            events += e;
+        }
+        if !s["stopped"].is_null() {
+            last = None;
+            send(&mut ws, json!({"cmd": "reset"})).await;
+        }
+    }
+    let fps = running as f64 / active;
+    eprintln!(
+        "server, 256 x 256 hex, 1e4 events/frame: {fps:.1} frames/s at the client ({events} events in 2 s), server's own count {server_fps:.1}"
+    );
+    if !cfg!(debug_assertions) {
+        assert!(fps >= 30.0, "{fps} frames/s");
+    }
+}

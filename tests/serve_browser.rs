@@ -55,23 +55,25 @@ fn chromium() -> Option<String> {
 }
 
 fn start_chromium(bin: &str, profile: &std::path::Path) -> (Kill, String) {
-    let mut child = Command::new(bin)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--hide-scrollbars",
-            "--no-first-run",
-            "--remote-debugging-port=0",
-            "--window-size=1400,1250",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("about:blank")
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start chromium");
-    let err = BufReader::new(child.stderr.take().unwrap());
+    let mut child = Kill(
+        Command::new(bin)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--hide-scrollbars",
+                "--no-first-run",
+                "--remote-debugging-port=0",
+                "--window-size=1400,1250",
+            ])
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .arg("about:blank")
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start chromium"),
+    );
+    let err = BufReader::new(child.0.stderr.take().unwrap());
     let t0 = Instant::now();
     for line in err.lines() {
         let line = line.unwrap_or_default();
@@ -83,7 +85,7 @@ fn start_chromium(bin: &str, profile: &std::path::Path) -> (Kill, String) {
                 .next()
                 .unwrap()
                 .to_string();
-            return (Kill(child), port);
+            return (child, port);
         }
         assert!(
             t0.elapsed() < Duration::from_secs(30),
@@ -280,7 +282,7 @@ fn page_plays_in_headless_chromium() {
                 tokio::time::sleep(Duration::from_millis(200)).await;
             }
             std::fs::write(format!("{dir}/serve_explain.png"), cdp.screenshot().await).unwrap();
-            cdp.call("Page.navigate", json!({ "url": format!("{url}?preset=kpz&speed=1024&autoplay=1") }))
+            cdp.call("Page.navigate", json!({ "url": format!("{url}?preset=kpz&speed=2048&autoplay=1") }))
                 .await;
             cdp.wait_for("document.getElementById('status').textContent === 'playing'", 20).await;
             tokio::time::sleep(Duration::from_millis(4500)).await;

@@ -10,8 +10,8 @@
 //!
 //! - [`RoughnessRun`]: one flat-substrate configuration ([`RoughnessRun::scene`]) and its
 //!   width curve ([`width_curve`]) at log-spaced times ([`log_times`]).
-//! - [`growth_exponent`]: `beta` from the log-log slope of `w(t)` over a time window, mean and
-//!   standard error over seeds; [`roughness_exponent`]: `alpha` from the saturated widths
+//! - The exponents: [`growth_exponent`] gives `beta` from the log-log slope of `w(t)` over a time window, mean and
+//!   standard error over seeds; [`roughness_exponent`] gives `alpha` from the saturated widths
 //!   of several lattice widths.
 //!
 //! Time is the paper's clock (picks); `t / L` is in monolayers.
@@ -149,6 +149,10 @@ pub fn saturated_width(
     Ok(mean_and_se(&per_seed))
 }
 
+/// One saturated-width measurement: substrate width `L` (columns), mean saturated width and
+/// its standard error over seeds (cell widths).
+pub type SaturationPoint = (usize, f64, f64);
+
 /// The roughness exponent: the log-log slope of saturated width against substrate width,
 /// `(alpha, points (L, w_sat, se))`. Each width runs `saturation x L^(3/2)` monolayers.
 pub fn roughness_exponent(
@@ -156,7 +160,7 @@ pub fn roughness_exponent(
     widths: &[usize],
     saturation: f64,
     seeds: u64,
-) -> Result<(Option<f64>, Vec<(usize, f64, f64)>), SceneError> {
+) -> Result<(Option<f64>, Vec<SaturationPoint>), SceneError> {
     let pts: Vec<(usize, f64, f64)> = widths
         .iter()
         .map(|&l| {

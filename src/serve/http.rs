@@ -318,19 +318,37 @@ impl Live {
     fn info(&self) -> Value {
         match self {
             Live::Growth(s) => {
-                let c = &s.settings().scene;
-                json!({
-                    "type": "info", "model": "growth", "preset": s.settings().preset,
-                    "scene": c.scene, "lattice": c.lattice.name(), "width": c.width,
-                    "height": c.height, "boundary": c.boundary.name(), "n": c.n,
-                    "weight": c.weight, "shape": c.shape.name(), "start": c.start,
-                    "sampler": c.sampler.name(), "seed": c.seed, "speed": s.settings().speed,
-                    "ca_rule": c.ca_rule,
-                })
+                let mut v = controls(s.settings());
+                // The preset's own values, so that the page's links name only what differs.
+                let name = s.settings().preset.split('+').next().unwrap_or("fig5");
+                let q = BTreeMap::from([("preset".to_string(), name.to_string())]);
+                let defaults = GrowthSettings::from_query(&q)
+                    .map(|d| controls(&d))
+                    .unwrap_or(Value::Null);
+                if let Value::Object(m) = &mut v {
+                    m.insert("type".into(), "info".into());
+                    m.insert("model".into(), "growth".into());
+                    m.insert("preset".into(), s.settings().preset.clone().into());
+                    m.insert("scene".into(), s.settings().scene.scene.name().into());
+                    m.insert("defaults".into(), defaults);
+                }
+                v
             }
             Live::Ripple(_) => json!({ "type": "info", "model": "ripple" }),
         }
     }
+}
+
+/// The page's controls of a growth session, by their URL names.
+fn controls(s: &GrowthSettings) -> Value {
+    let c = &s.scene;
+    let rule: Vec<String> = c.ca_rule.iter().map(|b| b.to_string()).collect();
+    json!({
+        "lattice": c.lattice.name(), "width": c.width, "height": c.height,
+        "boundary": c.boundary.name(), "n": c.n, "weight": c.weight, "shape": c.shape.name(),
+        "start": c.start, "sampler": c.sampler.name(), "seed": c.seed, "speed": s.speed,
+        "ca_rule": rule.join(","),
+    })
 }
 
 /// What the frame loop sends after a frame.

@@ -10,12 +10,12 @@
 //! no CDN and no build step for a user.
 //!
 //! Principal types and functions:
-//! - [`settings`]: [`GrowthSettings`] and [`RippleSettings`], read from the page's URL query
+//! - Settings ([`settings`]): [`GrowthSettings`] and [`RippleSettings`], read from the page's URL query
 //!   (every control by name, the presets of Figs. 3-7 and `kpz`), with limits
 //!   ([`settings::MAX_CELLS`], [`settings::MAX_SPEED`]).
-//! - [`session`]: [`GrowthSession`] (frames of events, one explained pick, live statistics)
+//! - Sessions ([`session`]): [`GrowthSession`] (frames of events, one explained pick, live statistics)
 //!   and [`RippleSession`].
-//! - [`http`]: the router ([`http::router`]) and [`http::serve`]: pages, the JSON API and the
+//! - The server ([`http`]): the router ([`http::router`]) and [`http::serve`]: pages, the JSON API and the
 //!   two WebSocket streams, `/ws/growth` and `/ws/ripple`.
 //!
 //! Errors are [`ServeError`]s that name the parameter, the value and the valid range; the

@@ -55,7 +55,7 @@ pub const PRESETS: &[(&str, &str, &str)] = &[
     (
         "kpz",
         "Kinetic roughening: Eden growth on a flat substrate",
-        "scene = \"grow\"\nlattice = \"hex\"\nwidth = 256\nheight = 512\nboundary = \"channel\"\n\
+        "scene = \"grow\"\nlattice = \"hex\"\nwidth = 512\nheight = 512\nboundary = \"channel\"\n\
          n = 0.0\nshape = \"flat\"\nstart = 2.0\nsampler = \"exact\"\nsteps = 50000\n\
          snapshots = []\nseed = 1\n",
     ),
@@ -73,7 +73,7 @@ pub struct GrowthSettings {
     pub scene: SceneConfig,
     /// Events per frame: accepted events (exact), acceptances up to
     /// [`MAX_PICKS_PER_FRAME`] picks (rejection), or CA updates. 1..=[`MAX_SPEED`]; default
-    /// 1000 (1 for the CA, 256 for `kpz`).
+    /// 1000 (1 for the CA, 512 for `kpz`: a monolayer per frame).
     pub speed: u64,
 }
 
@@ -204,7 +204,7 @@ impl GrowthSettings {
         let default_speed = match (c.sampler, name) {
             (SamplerKind::Ca, _) => 1,
             // One monolayer of the kpz preset's substrate per frame.
-            (_, "kpz") => 256,
+            (_, "kpz") => 512,
             _ => 1000,
         };
         let speed =

@@ -4,7 +4,7 @@
 const $ = (id) => document.getElementById(id);
 const HEX_ROW = Math.sqrt(3) / 2;
 const CONTROLS = ["preset", "lattice", "boundary", "width", "height", "shape", "start",
-  "n", "weight", "sampler", "seed", "speed"];
+  "n", "weight", "sampler", "ca_rule", "seed", "speed"];
 const COLORS = { empty: [250, 250, 246], surface: [233, 162, 59], occupied: [34, 34, 34],
   border: [214, 214, 208] };
 
@@ -43,7 +43,7 @@ function setControls(c) {
 function currentQuery(extra) {
   const q = new URLSearchParams();
   q.set("preset", $("preset").value);
-  const base = info && info.presetDefaults ? info.presetDefaults : {};
+  const base = info && info.defaults ? info.defaults : {};
   for (const k of CONTROLS) {
     if (k === "preset") continue;
     const v = $(k).value;
@@ -88,30 +88,14 @@ function connect(query) {
 function send(cmd) { if (ws && ws.readyState === 1) ws.send(JSON.stringify(cmd)); }
 
 function onInfo(m) {
-  const defaults = presetDefaults(m.preset.split("+")[0]);
   info = m;
-  info.presetDefaults = defaults;
   setControls({ preset: m.preset.split("+")[0], lattice: m.lattice, boundary: m.boundary,
     width: m.width, height: m.height, shape: m.shape, start: m.start, n: m.n,
-    weight: m.weight, sampler: m.sampler, seed: m.seed, speed: m.speed });
+    weight: m.weight, sampler: m.sampler, ca_rule: m.ca_rule, seed: m.seed, speed: m.speed });
   $("status").textContent = "ready";
   $("linktext").value = linkOf();
   if (queryParams().autoplay === "1" && !playing) togglePlay();
   if (queryParams().explain === "1") send({ cmd: "explain" });
-}
-
-function presetDefaults(name) {
-  const p = presets.find((x) => x.name === name);
-  if (!p) return {};
-  const d = {};
-  for (const line of p.toml.split("\n")) {
-    const m = line.match(/^(\w+)\s*=\s*(.+)$/);
-    if (!m) continue;
-    let v = m[2].trim().replace(/^"|"$/g, "");
-    if (/^-?[0-9.]+(e-?[0-9]+)?$/.test(v)) v = String(Number(v));
-    d[m[1]] = v;
-  }
-  return d;
 }
 
 function fmt(x, d) {
@@ -350,12 +334,12 @@ function csv() {
 
 function wire() {
   $("preset").addEventListener("change", () => {
-    // A new preset: its own settings, keeping only the seed and speed.
-    const keep = { seed: $("seed").value, speed: $("speed").value };
-    for (const k of CONTROLS) if (k !== "preset" && $(k)) $(k).value = "";
-    info = { presetDefaults: presetDefaults($("preset").value) };
-    setControls(Object.assign({}, info.presetDefaults, keep));
-    restart();
+    // A new preset: its own settings, keeping only the seed.
+    const q = new URLSearchParams({ preset: $("preset").value, seed: $("seed").value });
+    history.replaceState(null, "", "/?" + q.toString());
+    setPlaying(false);
+    info = null;
+    connect(q);
   });
   for (const k of CONTROLS) {
     if (k === "preset" || k === "n" || k === "speed") continue;
