@@ -269,6 +269,30 @@ fn page_plays_in_headless_chromium() {
             )
             .await;
         assert!(lattice.as_u64().unwrap_or(0) >= 3, "lattice canvas: {lattice}");
+        // "Copy link" gives the link of the current settings.
+        let link = cdp
+            .eval("document.getElementById('copylink').click(); document.getElementById('linktext').value")
+            .await;
+        let link = link.as_str().unwrap_or_default().to_string();
+        assert!(link.contains("preset=fig5") && link.contains("speed=100"), "{link}");
+        // Keyboard: Space plays, Space again pauses; S steps one frame.
+        let key = |k: &str| {
+            format!(
+                "document.body.dispatchEvent(new KeyboardEvent('keydown', {{ key: '{k}', bubbles: true }})); true"
+            )
+        };
+        cdp.eval(&key(" ")).await;
+        cdp.wait_for("document.getElementById('status').textContent === 'playing'", 10)
+            .await;
+        cdp.eval(&key(" ")).await;
+        cdp.wait_for("document.getElementById('status').textContent === 'paused'", 10)
+            .await;
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        let c2 = cdp.counters().await;
+        cdp.eval(&key("s")).await;
+        tokio::time::sleep(Duration::from_millis(500)).await;
+        let c3 = cdp.counters().await;
+        assert!(c3.1 > c2.1, "the S key did not step: {c2:?} -> {c3:?}");
         if let Some(dir) = &shots {
             // Explain mode on the rejection sampler, and the kinetic-roughening lesson.
             cdp.call("Page.navigate", json!({ "url": format!("{url}?preset=fig5&sampler=rejection&speed=40&autoplay=1") }))
