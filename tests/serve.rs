@@ -374,3 +374,37 @@ async fn server_streams_256_hex_at_30_frames_per_second() {
         assert!(fps >= 30.0, "{fps} frames/s");
     }
 }
+
+/// The exported scenario reproduces the session's lattice with `cellsurf grow --scenario`
+/// (the library's `scene::run`), for each sampler, explained picks included.
+#[test]
+fn exported_scenario_reproduces_the_lattice() {
+    use cellsurf::growth::scene::{NoHooks, SceneConfig, run};
+    for (sampler, preset, speed) in [
+        ("exact", "fig5", "300"),
+        ("rejection", "fig7", "300"),
+        ("ca", "fig4", "1"),
+    ] {
+        let q = [("preset", preset), ("sampler", sampler), ("speed", speed)]
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect();
+        let mut s = GrowthSession::new(GrowthSettings::from_query(&q).unwrap()).unwrap();
+        s.frame();
+        for _ in 0..5 {
+            s.explain().unwrap();
+        }
+        s.frame();
+        let text = s.settings().scenario_toml(s.growth().time());
+        let cfg = SceneConfig::from_toml(&text).unwrap();
+        let r = run(&cfg, &mut NoHooks).unwrap();
+        let snap = r.snapshots.last().unwrap();
+        assert_eq!(snap.time, s.growth().time(), "{sampler}");
+        assert_eq!(
+            snap.states,
+            s.growth().field_states(),
+            "{sampler}: lattices differ"
+        );
+        assert_eq!(r.last.accepted, s.stats().accepted, "{sampler}");
+    }
+}
