@@ -14,9 +14,13 @@ type Ws =
     tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
 
 async fn start() -> String {
+    start_with(ServerConfig::default()).await
+}
+
+async fn start_with(config: ServerConfig) -> String {
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
-    tokio::spawn(serve(listener, ServerConfig::default()));
+    tokio::spawn(serve(listener, config));
     addr.to_string()
 }
 
@@ -406,5 +410,38 @@ fn exported_scenario_reproduces_the_lattice() {
             "{sampler}: lattices differ"
         );
         assert_eq!(r.last.accepted, s.stats().accepted, "{sampler}");
+    }
+}
+
+/// Above its session limit the server refuses a new session with 503 and a message, and takes
+/// one again as soon as a tab closes.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn sessions_above_the_limit_are_refused() {
+    let addr = start_with(ServerConfig {
+        max_sessions: 2,
+        ..ServerConfig::default()
+    })
+    .await;
+    let mut a = connect(&addr, "/ws/growth?preset=fig3").await;
+    let _b = connect(&addr, "/ws/ripple").await;
+    next_of(&mut a, "stats").await;
+    let e = tokio_tungstenite::connect_async(format!("ws://{addr}/ws/growth"))
+        .await
+        .unwrap_err();
+    assert!(e.to_string().contains("503"), "{e}");
+    a.close(None).await.unwrap();
+    let t0 = Instant::now();
+    loop {
+        if tokio_tungstenite::connect_async(format!("ws://{addr}/ws/growth"))
+            .await
+            .is_ok()
+        {
+            break;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(5),
+            "the closed session was not freed"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
     }
 }
