@@ -32,5 +32,7 @@ pub mod growth;
 pub mod plot;
 pub mod raytrace;
 pub mod ripple;
+#[cfg(feature = "serve")]
+pub mod serve;
 pub mod tile;
 pub mod windripples;

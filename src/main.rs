@@ -56,6 +56,8 @@ enum Cmd {
     Dunes(cmd::dunes::Args),
     /// Wind-field cursor walk: one random walker on an 8-neighbour torus under a wind field.
     Cursor(cmd::cursor::Args),
+    /// Interactive teaching page: growth live in a browser (local web server, page embedded).
+    Serve(cmd::serve::Args),
 }
 
 fn main() -> ExitCode {
@@ -79,6 +81,7 @@ fn main() -> ExitCode {
         Cmd::WindRipples(a) => cmd::windripples::run(a),
         Cmd::Dunes(a) => cmd::dunes::run(a),
         Cmd::Cursor(a) => cmd::cursor::run(a),
+        Cmd::Serve(a) => cmd::serve::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,7 +5,8 @@
 //! re-export that resolves to the file that defines the item) to the files that define them,
 //! and checks that
 //! - the file graph has no cycle (strongly connected components from petgraph);
-//! - no file imports a layer above its own: engine <- plot <- growth and the models <- the
+//! - no file imports a layer above its own: engine <- plot <- growth, the models and the
+//!   teaching server `serve` (which only the program imports) <- the
 //!   figure registry (`src/figures.rs`), which nothing in the library imports; the program
 //!   (`src/main.rs`, `src/cmd/`) sits on top.
 
@@ -409,14 +410,16 @@ fn rs_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The layer of a library file: engine 0, plot 1, growth and the models 2, the registry 3.
+/// The layer of a library file: engine 0, plot 1, growth, the models and the teaching server
+/// (`serve`, which imports growth and ripple) 2, the registry 3.
 fn layer(module: &[String]) -> Option<usize> {
     match module.first().map(String::as_str) {
         Some("engine") => Some(0),
         Some("plot") => Some(1),
-        Some("growth" | "ripple" | "tile" | "raytrace" | "windripples" | "dunes" | "cursor") => {
-            Some(2)
-        }
+        Some(
+            "growth" | "ripple" | "tile" | "raytrace" | "windripples" | "dunes" | "cursor"
+            | "serve",
+        ) => Some(2),
         Some("figures") => Some(3),
         _ => None,
     }
@@ -522,6 +525,15 @@ fn imports_run_downward_only() {
     let mut bad = Vec::new();
     for (a, b) in &e {
         let (ma, mb) = (module(a), module(b));
+        // The teaching server sits beside the models: only the program (`src/cmd/`) uses it.
+        let top = |m: &[String]| m.first().cloned().unwrap_or_default();
+        if top(&mb) == "serve" && top(&ma) != "serve" {
+            bad.push(format!(
+                "{} imports {} (only the program may use serve)",
+                a.display(),
+                b.display()
+            ));
+        }
         if let (Some(la), Some(lb)) = (layer(&ma), layer(&mb)) {
             if lb > la || lb == 3 {
                 bad.push(format!(
@@ -543,6 +555,7 @@ fn imports_run_downward_only() {
         "windripples",
         "dunes",
         "cursor",
+        "serve",
         "plot",
     ] {
         assert!(

@@ -6,5 +6,6 @@ pub mod figures;
 pub mod growth;
 pub mod raytrace;
 pub mod ripple;
+pub mod serve;
 pub mod tile;
 pub mod windripples;

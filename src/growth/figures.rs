@@ -102,6 +102,11 @@ pub const FIGURES: &[Figure] = &[
         about: "Standard error of each scene's observable against run time, both samplers",
         make: error_figure,
     },
+    Figure {
+        name: "growth_kpz_roughness",
+        about: "Beyond the paper: kinetic roughening on a flat substrate, interface width against time (beta) and saturated width against substrate width (alpha), against KPZ",
+        make: kpz_figure,
+    },
 ];
 
 /// Seeds averaged in the time-series charts.
@@ -363,5 +368,121 @@ fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let curves = converge::converge_growth(CONVERGE_SEEDS)?;
     let p = dir.join("growth_error_vs_time.png");
     draw_error_vs_time(&p, &curves)?;
+    Ok(vec![p])
+}
+
+/// Kinetic roughening: substrate width, monolayers and seeds of the growth-exponent runs.
+const KPZ_WIDTH: usize = 1024;
+const KPZ_MONOLAYERS: f64 = 1000.0;
+const KPZ_SEEDS: u64 = 8;
+/// The growth exponent is fitted from this many monolayers on (the early, intrinsic-width
+/// dominated regime left out).
+const KPZ_FIT_FROM: f64 = 20.0;
+/// Substrate widths of the saturated-width runs, each `6 L^(3/2)` monolayers,
+/// [`KPZ_SAT_SEEDS`] seeds.
+const KPZ_SAT_WIDTHS: [usize; 4] = [16, 32, 64, 128];
+const KPZ_SAT_SEEDS: u64 = 4;
+
+fn kpz_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    use super::roughness::{RoughnessRun, growth_exponent, log_times, roughness_exponent};
+    use crate::engine::lattice::Neighbourhood;
+    let l = KPZ_WIDTH as f64;
+    let times = log_times(l / 4.0, KPZ_MONOLAYERS * l, 28);
+    let monolayers: Vec<f64> = times.iter().map(|t| t / l).collect();
+    let mut width_series = Vec::new();
+    let mut betas = Vec::new();
+    for n in [0.0, 2.0] {
+        let base = RoughnessRun {
+            lattice: Neighbourhood::Hex,
+            width: KPZ_WIDTH,
+            n,
+            monolayers: KPZ_MONOLAYERS,
+            seed: 1,
+        };
+        let (mean, beta, se, _) =
+            growth_exponent(&base, &times, KPZ_SEEDS, KPZ_FIT_FROM * l, f64::INFINITY)?;
+        width_series.push(Series {
+            label: format!("n = {n}: beta = {beta:.3} +- {se:.3}"),
+            x: monolayers.clone(),
+            y: mean,
+            points: true,
+        });
+        betas.push((n, beta, se));
+    }
+    // A t^(1/3) guide through the Eden curve's last point.
+    let last = width_series[0].y.last().copied().unwrap_or(1.0);
+    let t_end = KPZ_MONOLAYERS;
+    let guide: Vec<f64> = monolayers
+        .iter()
+        .map(|&m| last * (m / t_end).powf(1.0 / 3.0))
+        .collect();
+    width_series.push(Series {
+        label: "KPZ slope 1/3".into(),
+        x: monolayers.clone(),
+        y: guide,
+        points: false,
+    });
+    let base = RoughnessRun {
+        lattice: Neighbourhood::Hex,
+        width: 16,
+        n: 0.0,
+        monolayers: 1.0,
+        seed: 1,
+    };
+    let (alpha, pts) = roughness_exponent(&base, &KPZ_SAT_WIDTHS, 6.0, KPZ_SAT_SEEDS)?;
+    let alpha = alpha.unwrap_or(f64::NAN);
+    let ls: Vec<f64> = pts.iter().map(|p| p.0 as f64).collect();
+    let ws: Vec<f64> = pts.iter().map(|p| p.1).collect();
+    let w0 = ws.last().copied().unwrap_or(1.0);
+    let l0 = ls.last().copied().unwrap_or(1.0);
+    let se_txt: Vec<String> = pts
+        .iter()
+        .map(|p| format!("{:.2}+-{:.2}", p.1, p.2))
+        .collect();
+    let charts = [
+        Chart {
+            title: format!(
+                "w(t): hex, L = {KPZ_WIDTH}, {KPZ_SEEDS} seeds, fit t/L >= {KPZ_FIT_FROM}"
+            ),
+            x_label: "t / L (monolayers; t = the paper's timesteps)".into(),
+            y_label: "w (cell widths)".into(),
+            series: width_series,
+            log_x: true,
+            log_y: true,
+        },
+        Chart {
+            title: format!("w_sat(L): n = 0, {KPZ_SAT_SEEDS} seeds, alpha = {alpha:.3}"),
+            x_label: format!("L (columns); w_sat {}", se_txt.join(", ")),
+            y_label: "w_sat (cell widths)".into(),
+            series: vec![
+                Series {
+                    label: format!("measured, alpha = {alpha:.3}"),
+                    x: ls.clone(),
+                    y: ws,
+                    points: true,
+                },
+                Series {
+                    label: "KPZ slope 1/2".into(),
+                    x: ls.clone(),
+                    y: ls.iter().map(|&x| w0 * (x / l0).sqrt()).collect(),
+                    points: false,
+                },
+            ],
+            log_x: true,
+            log_y: true,
+        },
+    ];
+    let beta_txt: Vec<String> = betas
+        .iter()
+        .map(|(n, b, se)| format!("beta(n={n}) = {b:.3}+-{se:.3}"))
+        .collect();
+    let p = dir.join("growth_kpz_roughness.png");
+    plot::line_charts(
+        &p,
+        &format!("Kinetic roughening: {}", beta_txt.join(", ")),
+        &charts,
+        2,
+        (760, 520),
+    )?;
     Ok(vec![p])
 }

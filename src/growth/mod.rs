@@ -15,13 +15,15 @@
 //! [`scene`] configures and runs the paper's scenes (flame front, Fig. 5; land deposition,
 //! Fig. 6; crystal, Fig. 7; CA, Figs. 3-4) from TOML scenario files; [`observe`] measures
 //! them (front-radius CV, mode-1 amplitude, axis/diagonal ratio); [`converge`] measures the
-//! error of those observables against run time; [`figures`] (feature `plot`) draws the
+//! error of those observables against run time; [`roughness`] measures kinetic roughening on
+//! a flat substrate (interface width, growth and roughness exponents, beyond the paper); [`figures`] (feature `plot`) draws the
 //! paper's figures.
 
 pub mod converge;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod observe;
+pub mod roughness;
 pub mod rule;
 pub mod sampler;
 pub mod scene;

@@ -7,6 +7,13 @@
 //!   diamond with its corners on the axes, `1/sqrt(2)` for an axis-aligned square.
 //! - [`ColumnProfile`]: the deposition surface fills its trough (Fig. 6): mean elevation and
 //!   the amplitude of the first Fourier mode of the surface height.
+//! - [`interface_width`]: kinetic roughening on a flat substrate (a lesson beyond the paper):
+//!   the interface width `w(L, t)`, the standard deviation of the column heights, which grows
+//!   as `t^beta` and saturates at `L^alpha`; for the Kardar-Parisi-Zhang class in 1+1
+//!   dimensions `beta = 1/3`, `alpha = 1/2` (M. Kardar, G. Parisi and Y.-C. Zhang, "Dynamic
+//!   scaling of growing interfaces", Phys. Rev. Lett. 56, 889 (1986); the Eden cluster:
+//!   M. Eden, "A two-dimensional growth process", Proc. 4th Berkeley Symp. Math. Stat. Prob.
+//!   4, 223 (1961)).
 
 use std::f64::consts::PI;
 
@@ -126,6 +133,25 @@ impl ColumnProfile {
     }
 }
 
+/// The interface width `w`: the population standard deviation of the column heights
+/// ([`ColumnProfile::of`]: the top of the highest occupied cell in each column, cell widths)
+/// of a vertical section grown from a flat substrate. 0 for a flat layer.
+pub fn interface_width(g: &Growth) -> f64 {
+    ColumnProfile::of(g).width()
+}
+
+impl ColumnProfile {
+    /// Population standard deviation of the heights (cell widths): the interface width.
+    pub fn width(&self) -> f64 {
+        let n = self.heights.len();
+        if n == 0 {
+            return 0.0;
+        }
+        let m = self.mean();
+        (self.heights.iter().map(|h| (h - m) * (h - m)).sum::<f64>() / n as f64).sqrt()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,5 +213,25 @@ mod tests {
         assert!(p.mode1_amplitude() < 1e-9);
         // Cells 0..=19 occupied: the top of the layer is at 19.5.
         assert_eq!(p.mean(), 19.5);
+    }
+
+    #[test]
+    fn interface_width() {
+        // A flat layer has width 0.
+        for hood in [Neighbourhood::Square4, Neighbourhood::Hex] {
+            let mut g = empty(hood, 40, 50, Boundary::CHANNEL);
+            g.occupy_where(|_, y| y < 10.0);
+            assert!(super::interface_width(&g) < 1e-9);
+        }
+        // Half the columns 6 cells higher: heights h and h + 6, standard deviation 3.
+        let mut g = empty(Neighbourhood::Square4, 40, 50, Boundary::CHANNEL);
+        g.occupy_where(|x, y| y < if x < 20.0 { 10.0 } else { 16.0 });
+        assert!((super::interface_width(&g) - 3.0).abs() < 1e-12);
+        // An overhang does not count: only the highest occupied cell of a column.
+        let c = g.lattice().index(3, 30);
+        g.occupy(c).unwrap();
+        let p = ColumnProfile::of(&g);
+        assert_eq!(p.heights[3], 30.5);
+        assert!(super::interface_width(&g) > 3.0);
     }
 }

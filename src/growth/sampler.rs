@@ -86,6 +86,31 @@ pub enum Outcome {
     ClockOverflow,
 }
 
+/// One pick (rejection sampler) or one acceptance (exact sampler), reported for teaching by
+/// [`Growth::pick_rejection`] and [`Growth::pick_exact`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Pick {
+    /// The picked (rejection) or accepted (exact) cell, `y * width + x`.
+    pub cell: usize,
+    /// Its occupied neighbours before the pick.
+    pub b: usize,
+    /// The neighbourhood size.
+    pub z: usize,
+    /// The direction weight `v` at the cell (1 without Eq. 5).
+    pub v: f64,
+    /// The sticking probability `p = v (b/z)^n`.
+    pub p: f64,
+    /// The uniform draw `R` in [0, 1) (rejection sampler only).
+    pub r: Option<f64>,
+    /// Whether the site was occupied (`R < p`; always true for the exact sampler).
+    pub accepted: bool,
+    /// Exact sampler: rejected picks skipped before this acceptance (0 for the rejection
+    /// sampler, which makes them one by one).
+    pub skipped: f64,
+    /// Surface sites at the time of the pick.
+    pub surface: usize,
+}
+
 /// Number of rejected picks before the next acceptance, when each pick is accepted with
 /// probability `P = exp(ln_p)`, given `e`, a draw from the unit exponential law.
 ///
@@ -182,6 +207,81 @@ impl Growth {
                 self.accepted += 1;
                 return Outcome::Accepted(cell);
             }
+        }
+    }
+
+    /// One pick of the paper's algorithm, reported in full (for teaching): a uniformly random
+    /// surface site, its `b` and `p = v (b/z)^n`, the draw `R` in [0, 1) and the verdict. The
+    /// clock advances by one timestep. Consumes the random stream exactly as
+    /// [`Growth::step_rejection`] does, so a run mixing the two is the same run. `None` when the
+    /// surface is empty.
+    pub fn pick_rejection(&mut self, rng: &mut Stream) -> Option<Pick> {
+        let s = self.surface.len();
+        if s == 0 {
+            return None;
+        }
+        self.pending = None;
+        self.time += 1.0;
+        let slot = rng.random_range(0..s as u32) as usize;
+        let cell = self.surface.site(slot) as usize;
+        let b = super::state::b_of(self.cells[cell]) as usize;
+        let v = if self.weight.is_uniform() {
+            1.0
+        } else {
+            self.weight.at(&self.lattice, cell).unwrap_or(0.0)
+        };
+        let p = v * self.rule.p(b);
+        let r: f64 = rng.random();
+        let accepted = r < p;
+        if accepted {
+            self.occupy_unchecked(cell);
+            self.accepted += 1;
+        }
+        Some(Pick {
+            cell,
+            b,
+            z: self.lattice.z(),
+            v,
+            p,
+            r: Some(r),
+            accepted,
+            skipped: 0.0,
+            surface: s,
+        })
+    }
+
+    /// One acceptance of the exact sampler, reported in full (for teaching): the accepted
+    /// site with its `b`, `v` and `p`, and `skipped`, the number of rejected picks the
+    /// rejection algorithm would have made first (drawn from their geometric law: the clock
+    /// advances by `skipped + 1`, as in [`Growth::step_exact`], which this calls).
+    /// `None` when nothing can be accepted (the surface is empty, every `p` is 0 or the clock
+    /// overflowed).
+    pub fn pick_exact(&mut self, rng: &mut Stream) -> Option<Pick> {
+        let s = self.surface.len();
+        let t0 = self.time;
+        match self.step_exact(rng, f64::INFINITY) {
+            Outcome::Accepted(cell) => {
+                // b before the acceptance: the occupied neighbours now (occupying `cell`
+                // changed no other cell's occupation).
+                let b = self
+                    .lattice
+                    .neighbours(cell)
+                    .filter(|&n| self.is_occupied(n))
+                    .count();
+                let v = self.weight.at(&self.lattice, cell).unwrap_or(0.0);
+                Some(Pick {
+                    cell,
+                    b,
+                    z: self.lattice.z(),
+                    v,
+                    p: v * self.rule.p(b),
+                    r: None,
+                    accepted: true,
+                    skipped: self.time - t0 - 1.0,
+                    surface: s,
+                })
+            }
+            _ => None,
         }
     }
 

@@ -191,6 +191,18 @@ impl Ripple {
         self.stats.steps += 1;
     }
 
+    /// Changes the steady current from the next step on (an interactive run): `speed` in m/s,
+    /// 0..=10; `angle` in degrees counter-clockwise from +x, finite (a 2-D section uses its
+    /// sign along x only). Errors name the parameter and leave the run unchanged.
+    pub fn set_current(&mut self, speed: f64, angle: f64) -> Result<(), RippleError> {
+        let mut p = self.p.clone();
+        p.current_speed = speed;
+        p.current_angle = angle;
+        p.validate()?;
+        self.p = p;
+        Ok(())
+    }
+
     /// Advances `n` steps, calling `progress(done)` after each.
     pub fn run(&mut self, n: u64, mut progress: impl FnMut(u64)) {
         for i in 0..n {

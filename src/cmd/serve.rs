@@ -1,0 +1,65 @@
+//! `cellsurf serve`: the interactive teaching page (see the library's `serve` module).
+
+use std::io::Write;
+use std::net::SocketAddr;
+
+use anyhow::{Context, Result};
+use clap::Parser;
+
+use cellsurf::serve::{ServerConfig, serve};
+
+/// Options of `cellsurf serve`.
+#[derive(Parser, Debug)]
+pub struct Args {
+    /// Port to listen on (0: any free port; the address is printed on stdout).
+    #[arg(long, default_value_t = 8080)]
+    port: u16,
+    /// Address to bind: loopback unless you mean to share the page on a network.
+    #[arg(long, default_value = "127.0.0.1")]
+    host: std::net::IpAddr,
+    /// Open the page in the default browser (xdg-open / open / start).
+    #[arg(long)]
+    open: bool,
+    /// Most sessions (open pages) held at once; more are refused.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u64).range(1..=1024))]
+    max_sessions: u64,
+}
+
+/// Runs the server until the process is stopped (Ctrl-C).
+pub fn run(a: Args) -> Result<()> {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")?;
+    rt.block_on(async move {
+        let addr = SocketAddr::new(a.host, a.port);
+        let listener = tokio::net::TcpListener::bind(addr)
+            .await
+            .with_context(|| format!("cannot listen on --host {} --port {}", a.host, a.port))?;
+        let bound = listener.local_addr()?;
+        let url = format!("http://{bound}/");
+        println!("cellsurf serve: listening on {url}");
+        std::io::stdout().flush().ok();
+        if a.open {
+            open_browser(&url);
+        }
+        let config = ServerConfig {
+            max_sessions: a.max_sessions as usize,
+            ..ServerConfig::default()
+        };
+        serve(listener, config).await.context("server stopped")
+    })
+}
+
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else if cfg!(windows) {
+        "explorer"
+    } else {
+        "xdg-open"
+    };
+    if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
+        eprintln!("--open: cannot start {opener} ({e}); open {url} yourself");
+    }
+}
