@@ -257,18 +257,10 @@ async fn ws_growth(
     Query(q): Query<BTreeMap<String, String>>,
     ws: WebSocketUpgrade,
 ) -> Response {
-    let session = match GrowthSettings::from_query(&q).and_then(GrowthSession::new) {
-        Ok(s) => s,
-        Err(e) => return error_response(&e),
-    };
-    let slot = match Slot::take(&state) {
-        Ok(s) => s,
-        Err(e) => return error_response(&e),
-    };
-    let interval = state.config.frame_interval;
-    ws.on_upgrade(move |socket| {
-        run_session(socket, Live::Growth(Box::new(session)), interval, slot)
-    })
+    let live = GrowthSettings::from_query(&q)
+        .and_then(GrowthSession::new)
+        .map(|s| Live::Growth(Box::new(s)));
+    upgrade(&state, live, ws)
 }
 
 async fn ws_ripple(
@@ -276,18 +268,28 @@ async fn ws_ripple(
     Query(q): Query<BTreeMap<String, String>>,
     ws: WebSocketUpgrade,
 ) -> Response {
-    let session = match RippleSettings::from_query(&q).and_then(RippleSession::new) {
-        Ok(s) => s,
+    let live = RippleSettings::from_query(&q)
+        .and_then(RippleSession::new)
+        .map(|s| Live::Ripple(Box::new(s)));
+    upgrade(&state, live, ws)
+}
+
+/// Starts a session built from the request (or answers its error), if a slot is free.
+fn upgrade(
+    state: &Arc<AppState>,
+    live: Result<Live, ServeError>,
+    ws: WebSocketUpgrade,
+) -> Response {
+    let live = match live {
+        Ok(l) => l,
         Err(e) => return error_response(&e),
     };
-    let slot = match Slot::take(&state) {
+    let slot = match Slot::take(state) {
         Ok(s) => s,
         Err(e) => return error_response(&e),
     };
     let interval = state.config.frame_interval;
-    ws.on_upgrade(move |socket| {
-        run_session(socket, Live::Ripple(Box::new(session)), interval, slot)
-    })
+    ws.on_upgrade(move |socket| run_session(socket, live, interval, slot))
 }
 
 /// A live session of either kind.
