@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 use cellsurf::growth::scene::SceneKind;
 use cmd::growth::{ConvergeArgs, GrowArgs, grow};
@@ -13,14 +13,21 @@ mod cmd;
 #[command(
     name = "cellsurf",
     version,
-    about = "Cellular Monte Carlo surface models: growth on square and hexagonal lattices",
-    long_about = "Cellular Monte Carlo surface models.\n\n\
-        Growth scenes of \"Simple Monte Carlo cellular models for surface growth\": a surface \
-        site with b occupied neighbours (of z) sticks with probability p = v (b/z)^n. \
-        Each scene starts from the paper's settings; every option overrides them.\n\n\
+    about = "Cellular Monte Carlo surface models: growth, sand-ripple sediment volumes, tiling, \
+             ray tracing, wind ripples, Werner dunes, the cursor walk and a teaching page",
+    long_about = "Cellular Monte Carlo surface models on one lattice engine.\n\n\
+        - Growth (flame, deposit, crystal, ca, grow): a surface site with b occupied neighbours \
+          (of z) sticks with probability p = v (b/z)^n.\n\
+        - Sand ripples (ripple), tiling and fractal dunes (tile), ray tracing (raytrace): \
+          sediment volumes for underwater acoustics.\n\
+        - Wind ripples (wind-ripples), Werner dunes (dunes), the wind-field cursor walk \
+          (cursor), the live teaching page (serve).\n\n\
+        Every subcommand shares the conventions of docs/cli.md: --size WxH, --steps (1e7 \
+        accepted), --seed, --out FILE (the extension picks the format; repeatable), --json, \
+        --scenario FILE.toml, --print-scenario, --quiet.\n\n\
         Examples:\n  cellsurf flame --out flame.png\n  cellsurf crystal --steps 200000 --json\n  \
-        cellsurf grow --lattice square8 --shape disc --start 20 --n 4 --gif grow.gif\n  \
-        cellsurf figures --only growth_fig5_flame"
+        cellsurf grow --lattice square8 --shape disc --start 20 --n 4 --out grow.gif\n  \
+        cellsurf ripple --out bed.nc\n  cellsurf figures --only growth_fig5_flame"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -60,13 +67,41 @@ enum Cmd {
     Serve(cmd::serve::Args),
 }
 
+/// The command line: every option that takes a value accepts a negative number (so that
+/// `--steps -1` is refused by the option's own check, naming it), and each growth scene's help
+/// lists its defaults. Records the subcommand's matches for the shared conventions.
+fn parse() -> Cli {
+    let mut command = Cli::command().mut_subcommands(|sc| {
+        sc.mut_args(|a| {
+            if a.get_action().takes_values() {
+                a.allow_negative_numbers(true)
+            } else {
+                a
+            }
+        })
+    });
+    for scene in SceneKind::ALL {
+        let help = cmd::growth::defaults_help(scene);
+        command = command.mut_subcommand(scene.name(), |sc| sc.after_help(help));
+    }
+    let matches = command.clone().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let Some((name, sub)) = matches.subcommand() {
+        let words: Vec<String> = std::env::args().skip_while(|w| w != name).skip(1).collect();
+        if let Some(sc) = command.find_subcommand(name) {
+            cmd::conv::init(sc.clone(), sub.clone(), words);
+        }
+    }
+    cli
+}
+
 fn main() -> ExitCode {
     // Ctrl-C or SIGTERM: no temporary output file is left behind.
     let _ = ctrlc::set_handler(|| {
         cellsurf::engine::io::remove_live_temporaries();
         std::process::exit(130);
     });
-    let cli = Cli::parse();
+    let cli = parse();
     let result = match cli.cmd {
         Cmd::Flame(a) => grow(SceneKind::Flame, a),
         Cmd::Deposit(a) => grow(SceneKind::Deposit, a),
@@ -86,7 +121,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", cmd::conv::render_error(&e));
             ExitCode::FAILURE
         }
     }

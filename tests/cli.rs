@@ -123,15 +123,21 @@ fn figure_and_animation_files_are_written() {
 #[test]
 fn bad_input_is_rejected_without_a_panic() {
     let cases: &[(&[&str], &str)] = &[
-        (&["flame", "--n", "-1"], "n = -1"),
-        (&["flame", "--n", "NaN"], "n = NaN"),
-        (&["flame", "--size", "0"], "width = 0"),
-        (&["flame", "--size", "20x21"], "height = 21"),
-        (&["flame", "--snapshots", "5,3"], "snapshots"),
-        (&["flame", "--steps", "0"], "steps = 0"),
+        (&["flame", "--n", "-1"], "--n = -1"),
+        (&["flame", "--n", "NaN"], "--n = NaN"),
+        (&["flame", "--size", "0"], "'0' for '--size"),
+        (
+            &["flame", "--size", "20x21"],
+            "--size (lattice height) = 21",
+        ),
+        (&["flame", "--snapshots", "5,3"], "--snapshots"),
+        (&["flame", "--steps", "0"], "--steps = 0"),
+        (&["flame", "--steps", "-1"], "'-1' for '--steps"),
+        (&["grow", "--start", "-3"], "--start = -3"),
+        (&["flame", "--out", "x.nc"], "--out x.nc"),
         (&["flame", "--size", "abc"], "not a size"),
         (&["grow", "--lattice", "tri"], "tri"),
-        (&["ca", "--ca-rule", "9"], "ca_rule"),
+        (&["ca", "--ca-rule", "9"], "--ca-rule"),
         (
             &["flame", "--scenario", "/nonexistent/x.toml"],
             "--scenario",

@@ -787,7 +787,9 @@ mod cli {
         assert!(v["density_error"].as_f64().unwrap() > 0.0);
         assert!(v["density_error_expected"].as_f64().unwrap() > 0.0);
         assert!(v["elapsed_s"].as_f64().is_some());
-        assert_eq!(v["parameters"]["wind"]["field"], "uniform");
+        assert_eq!(v["parameters"]["wind_field"], "uniform");
+        assert_eq!(v["run"]["wind"]["field"], "uniform");
+        assert_eq!(v["model"], "cursor");
         assert!(v["version"].is_string());
         // Not known for a converging field.
         let out = cellsurf(&[
@@ -839,10 +841,10 @@ mod cli {
     fn bad_input_fails_with_a_clear_message_and_no_panic() {
         let wrong = fixture("cursor_wrong_size.png");
         let cases: [(Vec<&str>, &str); 5] = [
-            (vec!["--k", "1.5"], "k = 1.5"),
+            (vec!["--k", "1.5"], "--k = 1.5"),
             (
                 vec!["--wind-field", "uniform", "--wind-speed", "300"],
-                "wind speed = 300",
+                "--wind-speed = 300",
             ),
             (
                 vec!["--wind-field", "calm", "--wind-arms", "3"],
@@ -852,7 +854,7 @@ mod cli {
                 vec!["--wind", wrong.to_str().unwrap(), "--size", "30x30"],
                 "7x5",
             ),
-            (vec!["--steps", "0"], "steps = 0"),
+            (vec!["--steps", "0"], "--steps = 0"),
         ];
         for (args, text) in cases {
             let out = cellsurf(&args);

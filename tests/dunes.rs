@@ -847,15 +847,19 @@ mod cli {
     #[test]
     fn bad_input_exits_non_zero_with_a_message() {
         for (args, want) in [
-            (vec!["dunes", "-g", "2"], "grid = 2"),
-            (vec!["dunes", "-q", "-1", "-d"], "quantity = -1"),
-            (vec!["dunes", "-w", "NaN"], "wind = NaN"),
+            (vec!["dunes", "-g", "2"], "-g (grid) = 2"),
+            (vec!["dunes", "--grid", "2"], "--grid (grid) = 2"),
+            (vec!["dunes", "--size", "2"], "--size (grid) = 2"),
+            (vec!["dunes", "--size", "20x30"], "--size = 20x30"),
+            (vec!["dunes", "-q", "-1", "-d"], "-q = -1"),
+            (vec!["dunes", "-w", "NaN"], "-w = NaN"),
             (
                 vec!["dunes", "--variant", "werner", "--hop", "0"],
-                "hop = 0",
+                "--hop = 0",
             ),
-            (vec!["dunes", "--threshold", "-2"], "threshold = -2"),
-            (vec!["dunes", "--gif-frames", "0"], "gif-frames = 0"),
+            (vec!["dunes", "--threshold", "-2"], "--threshold = -2"),
+            (vec!["dunes", "--gif-frames", "0"], "--gif-frames = 0"),
+            (vec!["dunes", "--steps", "-1"], "'-1' for '--steps"),
         ] {
             let out = cellsurf(&args);
             assert!(!out.status.success(), "{args:?}");

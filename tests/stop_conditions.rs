@@ -175,7 +175,10 @@ fn the_cli_takes_counts_in_scientific_notation_and_names_bad_ones() {
     for (args, flag) in [
         (vec!["flame", "--steps", "1.5"], "--steps"),
         (vec!["flame", "--events", "-1"], "--events"),
-        (vec!["flame", "--until-occupied", "2"], "until_occupied"),
+        (
+            vec!["flame", "--until-occupied", "2"],
+            "--until-occupied = 2",
+        ),
         (
             vec!["flame", "--events", "10", "--sampler", "rejection"],
             "--steps",

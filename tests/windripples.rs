@@ -584,20 +584,21 @@ mod cli {
         let hl = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
         assert_eq!(bytes.len(), 10 + hl + 8 * 32 * 32);
         let side: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(tmp("a.npy.json")).unwrap()).unwrap();
-        assert_eq!(side["parameters"]["bins"], 32);
+            serde_json::from_slice(&std::fs::read(tmp("a.json")).unwrap()).unwrap();
+        assert_eq!(side["parameters"]["size"], "32x32");
+        assert_eq!(side["run"]["bins"], 32);
         assert!(side["version"].is_string());
     }
 
     #[test]
     fn bad_input_is_an_error_not_a_panic() {
         for (args, needle) in [
-            (vec!["--kappa", "-1"], "kappa = -1"),
-            (vec!["--bins", "0"], "bins = 0"),
-            (vec!["--particles", "0"], "particles = 0"),
-            (vec!["--steps", "0"], "steps = 0"),
-            (vec!["--hop", "nan"], "hop = NaN"),
-            (vec!["--diffusion", "inf"], "diffusion = inf"),
+            (vec!["--kappa", "-1"], "--kappa = -1"),
+            (vec!["--bins", "0"], "'0' for '--size"),
+            (vec!["--particles", "0"], "--particles = 0"),
+            (vec!["--steps", "0"], "--steps = 0"),
+            (vec!["--hop", "nan"], "--hop = NaN"),
+            (vec!["--diffusion", "inf"], "--diffusion = inf"),
             (vec!["--hop", "abc"], "not a number"),
             (vec!["--schedule", "numpy"], "unknown schedule"),
             (vec!["--npy", "/nonexistent-dir/x.npy"], "does not exist"),

@@ -11,6 +11,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+
+use super::conv::{self, Format, Outputs, Size};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::cursor::stats::{self, NoiseModel};
@@ -23,7 +26,8 @@ use cellsurf::engine::VERSION;
 use cellsurf::engine::io::write_atomic;
 
 /// The built-in wind generators.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Generator {
     /// No wind: a plain random walk (article Fig. 2).
     Calm,
@@ -53,7 +57,7 @@ impl Generator {
 }
 
 /// Options of `cellsurf cursor`.
-#[derive(clap::Args)]
+#[derive(clap::Args, Serialize, Deserialize)]
 #[command(
     long_about = "Wind-field cursor walk: one cursor walks an 8-neighbour torus and each cell it \
         arrives in gains one unit of height. Under a wind W the move in direction i (unit vector \
@@ -64,12 +68,16 @@ impl Generator {
         cellsurf cursor --out brownian.png                       # calm air, 11,520,000 steps\n  \
         cellsurf cursor --wind-field uniform --wind-angle 30 --json\n  \
         cellsurf cursor --wind-field rotating --k 0.5 --out star.png\n  \
-        cellsurf cursor --wind-field bimodal --save-wind w.png && cellsurf cursor --wind w.png\n  \
-        cellsurf cursor --wind my_winds.png --wind-scale 0.86 --sea-quantile 0.8 --out m.png"
+        cellsurf cursor --wind-field bimodal --save-wind w.png && cellsurf cursor --wind-image w.png\n  \
+        cellsurf cursor --wind-image my_winds.png --wind-scale 0.86 --sea-quantile 0.8 --out m.png"
 )]
 pub struct Args {
-    /// Steps of the walk (particles; 1 to 10^12). The article's runs use 11,520,000.
-    #[arg(long, default_value_t = ARTICLE_STEPS)]
+    /// Start from this scenario file (TOML, `model = "cursor"`); options typed here override it.
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
+    /// Steps of the walk (particles; 1 to 10^12, `1e7` accepted). The article's runs use
+    /// 11,520,000.
+    #[arg(long, value_name = "N", value_parser = conv::parse_count, default_value_t = ARTICLE_STEPS)]
     steps: u64,
     /// Force constant k, 0 to 1 (k = 0: Brownian whatever the wind).
     #[arg(long, default_value_t = DEFAULT_K, allow_negative_numbers = true)]
@@ -77,8 +85,13 @@ pub struct Args {
     /// Wind field from a PNG image, one pixel per cell (8-bit RGB, RGBA, grey or palette;
     /// image row 0 is the top row of the grid). Its size sets the grid unless --size is given,
     /// which it must then match.
-    #[arg(long, value_name = "FILE.png", conflicts_with = "wind_field")]
-    wind: Option<PathBuf>,
+    #[arg(
+        long,
+        value_name = "FILE.png",
+        alias = "wind",
+        conflicts_with = "wind_field"
+    )]
+    wind_image: Option<PathBuf>,
     /// Multiply the wind image's winds by this factor (0.86 = 220/255 admits every colour).
     #[arg(
         long,
@@ -123,8 +136,8 @@ pub struct Args {
     wind_arms: Option<u32>,
     /// Grid size in cells, W or WxH, each side 3 or more. Default 240x240 (the article does
     /// not give its grid), or the wind image's size.
-    #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
-    size: Option<(usize, usize)>,
+    #[arg(long, value_name = "W[xH]")]
+    size: Option<Size>,
     /// Seed of the random stream (the same seed gives the same output).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -148,26 +161,21 @@ pub struct Args {
     /// Sea level as a quantile of the heights: this fraction of the cells is flooded (0 to 1).
     #[arg(long, value_name = "Q", allow_negative_numbers = true)]
     sea_quantile: Option<f64>,
-    /// Write the landscape (flooded below the sea level) next to the wind field as a PNG.
-    #[arg(long, value_name = "FILE.png")]
-    out: Option<PathBuf>,
+    /// Output file: .png, the landscape (flooded below the sea level) next to the wind field.
+    #[arg(long, value_name = "FILE")]
+    out: Vec<PathBuf>,
     /// Write the wind field as a PNG in the article's colour encoding (readable by --wind).
     #[arg(long, value_name = "FILE.png")]
     save_wind: Option<PathBuf>,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
-}
-
-fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("'{s}' is not a size: expected W or WxH with whole numbers, e.g. 240x240");
-    let (w, h) = s.split_once(['x', 'X']).unwrap_or((s, s));
-    let w: usize = w.trim().parse().map_err(|_| bad())?;
-    let h: usize = h.trim().parse().map_err(|_| bad())?;
-    Ok((w, h))
+    /// Print the run's scenario file (TOML) and exit.
+    #[arg(long)]
+    print_scenario: bool,
 }
 
 /// Largest number of steps.
@@ -301,6 +309,15 @@ enum Source {
 
 /// Runs `cellsurf cursor`.
 pub fn run(a: Args) -> Result<()> {
+    conv::set_quiet(a.quiet);
+    let scenario = a.scenario.clone();
+    let a = conv::merge_scenario(a, scenario.as_deref(), "cursor")?;
+    if a.print_scenario {
+        print!("{}", conv::scenario_text(&a, "cursor")?);
+        return Ok(());
+    }
+    let outs = Outputs::new(&a.out, "cursor", &[Format::Png])?;
+    let size = a.size.map(|s| (s.w, s.h));
     if a.steps == 0 || a.steps > MAX_STEPS {
         bail!(
             "steps = {} is out of range: it must be between 1 and {MAX_STEPS}",
@@ -321,24 +338,24 @@ pub fn run(a: Args) -> Result<()> {
     };
     sea.validate()
         .context("in --sea-level, --sea-fraction or --sea-quantile")?;
-    if let Some((w, h)) = a.size {
+    if let Some((w, h)) = size {
         check_size(w, h).context("in --size")?;
     }
-    let (field, source) = match (&a.wind, a.wind_field) {
+    let (field, source) = match (&a.wind_image, a.wind_field) {
         (Some(path), _) => {
             if let Some(f) = generator_options(&a).first() {
-                bail!("{f} applies to --wind-field generators, not to a --wind image");
+                bail!("{f} applies to --wind-field generators, not to a --wind-image");
             }
-            let field = WindField::from_png(path, a.size, a.wind_scale)?;
+            let field = WindField::from_png(path, size, a.wind_scale)?;
             (field, Source::Image(path.clone()))
         }
         (None, g) => {
             if a.wind_scale != 1.0 {
-                bail!("--wind-scale applies to a --wind image only");
+                bail!("--wind-scale applies to a --wind-image only");
             }
             let g = g.unwrap_or(Generator::Calm);
             let s = spec(g, &a)?;
-            let (w, h) = a.size.unwrap_or(DEFAULT_SIZE);
+            let (w, h) = size.unwrap_or(DEFAULT_SIZE);
             let field = s
                 .field(w, h)
                 .with_context(|| format!("in --wind-field {}", g.name()))?;
@@ -349,6 +366,7 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(p) = &a.save_wind {
         let bytes = field.to_png_bytes()?;
         write_atomic(p, &bytes).with_context(|| format!("writing --save-wind {}", p.display()))?;
+        conv::wrote(p);
     }
     let setup = Instant::now();
     let tr = Transitions::new(&field, a.k)?;
@@ -414,7 +432,7 @@ pub fn run(a: Args) -> Result<()> {
         a.seed
     );
 
-    if let Some(p) = &a.out {
+    if let Some(p) = outs.get(Format::Png) {
         let caption = format!(
             "{describe}\nsea level {level:.1} visits ({}); cellsurf {VERSION}",
             sea_words(&sea)
@@ -428,6 +446,7 @@ pub fn run(a: Args) -> Result<()> {
             level,
         )
         .with_context(|| format!("writing --out {}", p.display()))?;
+        conv::wrote(p);
     }
 
     let wind_json = match &source {
@@ -440,10 +459,8 @@ pub fn run(a: Args) -> Result<()> {
     // Output errors (a closed pipe) are reported, not panicked on.
     let mut out = std::io::stdout().lock();
     if a.json {
-        let v = serde_json::json!({
-            "model": "cursor",
+        let own = serde_json::json!({
             "steps": walk.steps(),
-            "elapsed_s": elapsed,
             "setup_s": setup_s,
             "steps_per_s": n / elapsed.max(1e-12),
             "height_total": total,
@@ -459,21 +476,18 @@ pub fn run(a: Args) -> Result<()> {
             "flooded_fraction": flooded,
             "final_position": [walk.position().0, walk.position().1],
             "max_wind": field.max_speed(),
-            "version": VERSION,
-            "parameters": {
-                "steps": a.steps,
-                "k": a.k,
+            "run": {
                 "width": w,
                 "height": h,
-                "seed": a.seed,
                 "wind": wind_json,
                 "sea": sea,
                 "start": [w / 2, h / 2],
             },
         });
+        let v = conv::envelope("cursor", conv::scenario_table(&a)?, elapsed, own)?;
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
-        let mut lines = vec![
+        let lines = [
             format!("cellsurf {VERSION} cursor: {describe}"),
             format!(
                 "  {} steps in {elapsed:.3} s ({:.1} M steps/s; tables {setup_s:.3} s); heights sum to {total}",
@@ -503,9 +517,6 @@ pub fn run(a: Args) -> Result<()> {
                 None => format!("  drift per step ({:.4}, {:.4}) cells", drift.0, drift.1),
             },
         ];
-        for p in a.out.iter().chain(a.save_wind.iter()) {
-            lines.push(format!("  wrote {}", p.display()));
-        }
         writeln!(out, "{}", lines.join("\n"))?;
     }
     Ok(())

@@ -9,6 +9,9 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+
+use super::conv::{self, Format, Outputs, Size};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::dunes::{
@@ -17,7 +20,8 @@ use cellsurf::dunes::{
 };
 
 /// Which model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Variant {
     /// The article's code: ripple mode, or dune mode with -d.
     Article,
@@ -26,52 +30,51 @@ pub enum Variant {
 }
 
 /// Options of `cellsurf dunes`. Short options as in the article's `simulate.py`.
-#[derive(clap::Args)]
+#[derive(clap::Args, Serialize, Deserialize)]
 #[command(
-    after_help = "Examples:\n  cellsurf dunes -d -q 1 --out q1.png      # barchans (dune mode, Q = 1)\n  \
-                  cellsurf dunes -d -q 3 -g 140 --gif q3.gif  # transverse ridges, animated\n  \
-                  cellsurf dunes --variant werner -q 0.5 -i 1000 --json\n  \
-                  cellsurf dunes -w 5 -i 200               # ripple mode (the earlier article)"
+    after_help = "Examples:\n  cellsurf dunes -d -q 1 --out q1.png       # barchans (dune mode, Q = 1)\n  \
+                  cellsurf dunes -d -q 3 --size 140 --out q3.gif  # transverse ridges, animated\n  \
+                  cellsurf dunes --variant werner -q 0.5 --steps 1000 --json\n  \
+                  cellsurf dunes -w 5 --steps 200            # ripple mode (the earlier article)"
 )]
 pub struct Args {
-    /// Grid side N in cells; the grid is N x N and periodic (3 to 4096).
+    /// Start from this scenario file (TOML, `model = "dunes"`); options typed here override it.
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
+    /// Grid size in cells, N or NxN: the grid is square and periodic, N from 3 to 4096.
     #[arg(
         short = 'g',
-        long = "grid",
-        visible_alias = "grid-size",
+        long = "size",
+        value_name = "N",
+        alias = "grid",
+        alias = "grid-size",
         alias = "grid_size",
-        default_value_t = 100
+        default_value = "100"
     )]
-    grid: usize,
-    /// Iterations: each makes the picks, then applies the rolling rule (0 to 10^9).
+    size: Size,
+    /// Iterations: each makes the picks, then applies the rolling rule (0 to 10^9; `1e6`
+    /// accepted).
     #[arg(
         short = 'i',
-        long = "iterations",
-        visible_alias = "num-iter",
+        long = "steps",
+        value_name = "N",
+        alias = "iterations",
+        alias = "num-iter",
         alias = "num_iter",
-        default_value_t = 500
+        value_parser = conv::parse_count,
+        default_value = "500"
     )]
-    iterations: u64,
+    steps: u64,
     /// Dune mode: int(0.2 N^2) picks among cells with sand, tanh jump and quantity laws,
     /// D = 0.3 (without -d: ripple mode, N^2 picks, jump int(wind + h), q = 0.1, D = 0.1).
     #[arg(short = 'd', long = "dune")]
     dune: bool,
     /// Sand quantity Q: mean initial height in cell widths, initial h uniform in [0, 2Q]
     /// (dune mode and werner; 0 to 10^5).
-    #[arg(
-        short = 'q',
-        long = "quantity",
-        default_value_t = 1.0,
-        allow_hyphen_values = true
-    )]
+    #[arg(short = 'q', long = "quantity", default_value_t = 1.0)]
     quantity: f64,
     /// Wind speed in cells (ripple mode: jump = int(wind + h); finite, -10^9 to 10^9).
-    #[arg(
-        short = 'w',
-        long = "wind",
-        default_value_t = 3.0,
-        allow_hyphen_values = true
-    )]
+    #[arg(short = 'w', long = "wind", default_value_t = 3.0)]
     wind: f64,
     /// Seed of the random stream (the same seed gives the same output).
     #[arg(short = 's', long = "seed", default_value_t = 1)]
@@ -84,13 +87,14 @@ pub struct Args {
     hop: u32,
     /// Dune-body threshold in cell widths: cells higher than this form dune bodies, the
     /// others are bare ground (finite, at least 0).
-    #[arg(long, default_value_t = BODY_THRESHOLD, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = BODY_THRESHOLD)]
     threshold: f64,
-    /// Write the final heights and dune bodies as a PNG.
-    #[arg(long, value_name = "FILE.png")]
-    out: Option<PathBuf>,
-    /// Write an animated GIF of the migration.
-    #[arg(long, value_name = "FILE.gif")]
+    /// Output file, repeatable; the extension picks the format: .png (final heights and dune
+    /// bodies), .gif (an animation of the migration).
+    #[arg(long, value_name = "FILE")]
+    out: Vec<PathBuf>,
+    /// Old spelling of `--out FILE.gif` (kept for one release).
+    #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
     /// Frames in the GIF (1 to 2000).
     #[arg(long, default_value_t = 60)]
@@ -98,9 +102,12 @@ pub struct Args {
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Print the run's scenario file (TOML) and exit.
+    #[arg(long)]
+    print_scenario: bool,
 }
 
 /// The run's configuration from the options.
@@ -112,8 +119,8 @@ fn config(a: &Args) -> Result<DuneConfig> {
     };
     let cfg = DuneConfig {
         mode,
-        grid: a.grid,
-        iterations: a.iterations,
+        grid: a.size.side()?,
+        iterations: a.steps,
         quantity: a.quantity,
         wind: a.wind,
         seed: a.seed,
@@ -131,7 +138,7 @@ fn config(a: &Args) -> Result<DuneConfig> {
     }
     if a.gif_frames == 0 || a.gif_frames > 2000 {
         bail!(
-            "gif-frames = {} is out of range: expected 1 to 2000",
+            "gif_frames = {} is out of range: expected 1 to 2000",
             a.gif_frames
         );
     }
@@ -140,7 +147,18 @@ fn config(a: &Args) -> Result<DuneConfig> {
 
 /// Runs `cellsurf dunes`.
 pub fn run(a: Args) -> Result<()> {
+    conv::synonyms(&[("grid", "size"), ("iterations", "steps")]);
+    conv::set_quiet(a.quiet);
+    let scenario = a.scenario.clone();
+    let a = conv::merge_scenario(a, scenario.as_deref(), "dunes")?;
     let cfg = config(&a)?;
+    if a.print_scenario {
+        print!("{}", conv::scenario_text(&a, "dunes")?);
+        return Ok(());
+    }
+    let mut outs = Outputs::new(&a.out, "dunes", &[Format::Png, Format::Gif])?;
+    outs.add_legacy(Format::Gif, a.gif.as_ref())?;
+    let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
     let silent = a.quiet || a.json;
     let bar =
         ProgressBar::with_draw_target(Some(cfg.iterations.max(1)), ProgressDrawTarget::hidden());
@@ -152,7 +170,7 @@ pub fn run(a: Args) -> Result<()> {
     bar.set_message(format!("dunes {} {}x{}", cfg.mode, cfg.grid, cfg.grid));
     let start = Instant::now();
     let mut m = DuneModel::new(&cfg)?;
-    let mut rec = a.gif.as_ref().map(|_| MigrationRecorder::new(480));
+    let mut rec = outs.get(Format::Gif).map(|_| MigrationRecorder::new(480));
     let every = (cfg.iterations / a.gif_frames as u64).max(1);
     if let Some(r) = rec.as_mut() {
         r.add(&m);
@@ -178,18 +196,20 @@ pub fn run(a: Args) -> Result<()> {
     if s.sand_change != 0 || m.grains().len() != cfg.grid * cfg.grid {
         bail!("internal error: sand changed by {} grains", s.sand_change);
     }
-    if let (Some(r), Some(p)) = (rec.as_ref(), a.gif.as_ref()) {
+    if let (Some(r), Some(p)) = (rec.as_ref(), outs.get(Format::Gif)) {
         r.write(p, 480, 8)
-            .with_context(|| format!("writing --gif {}", p.display()))?;
+            .with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
-    if let Some(p) = &a.out {
+    if let Some(p) = outs.get(Format::Png) {
         // The run's parameters go into the PNG (iTXt `parameters`), as for every figure.
         cellsurf::plot::set_png_parameters(Some(format!(
             "threshold = {}\n{}",
             a.threshold,
             toml::to_string(&cfg).unwrap_or_default()
         )));
-        draw_result(p, &m).with_context(|| format!("writing --out {}", p.display()))?;
+        draw_result(p, &m).with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
     let (picks, moves) = m.picks();
     let rate = if elapsed > 0.0 {
@@ -198,8 +218,7 @@ pub fn run(a: Args) -> Result<()> {
         0.0
     };
     if a.json {
-        let v = serde_json::json!({
-            "model": "dunes",
+        let own = serde_json::json!({
             "mode": cfg.mode.name(),
             "variant": match a.variant { Variant::Article => "article", Variant::Werner => "werner" },
             "iterations": m.iteration(),
@@ -218,9 +237,9 @@ pub fn run(a: Args) -> Result<()> {
             "total_grains": s.total_grains,
             "grains_per_unit": GRAINS_PER_UNIT,
             "sand_change": s.sand_change,
-            "version": VERSION,
-            "parameters": cfg,
+            "config": cfg,
         });
+        let v = conv::envelope("dunes", conv::scenario_table(&a)?, elapsed, own)?;
         println!("{}", serde_json::to_string(&v)?);
     } else {
         println!("cellsurf {VERSION} dunes: {}", describe(&cfg));

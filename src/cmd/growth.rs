@@ -20,6 +20,8 @@ use cellsurf::growth::scene::{
 };
 use cellsurf::plot::{CellField, GifWriter, Palette};
 
+use super::conv::{self, Format, Outputs};
+
 #[derive(Args, Clone)]
 pub struct GrowArgs {
     /// Scenario file (TOML) to start from instead of the scene's defaults.
@@ -29,7 +31,7 @@ pub struct GrowArgs {
     #[arg(long)]
     lattice: Option<Neighbourhood>,
     /// Lattice size in cells: W or WxH (rows must be even on a hex torus).
-    #[arg(long, value_name = "W[xH]", value_parser = parse_size)]
+    #[arg(long, value_name = "W[xH]", value_parser = conv::parse_size)]
     size: Option<(usize, usize)>,
     /// Boundary: torus, walls, channel (periodic x, walls y) or tube (walls x, periodic y).
     #[arg(long)]
@@ -50,11 +52,11 @@ pub struct GrowArgs {
     /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca);
     /// whole numbers, `1e7` accepted. With --events or --until-occupied and no --steps the
     /// clock has no limit (the rejection sampler stops at 2^53 picks).
-    #[arg(long, value_name = "N", value_parser = parse_count, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = conv::parse_count, allow_negative_numbers = true)]
     steps: Option<u64>,
     /// Stop after N accepted events (cells added), `1e5` accepted: reaches stiff cases
     /// (large n) whose clock runs past 2^53.
-    #[arg(long, value_name = "N", value_parser = parse_count, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = conv::parse_count, allow_negative_numbers = true)]
     events: Option<u64>,
     /// Stop when this fraction of the lattice is occupied, in (0, 1].
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
@@ -71,30 +73,43 @@ pub struct GrowArgs {
     /// Seed of the random stream (the same seed gives the same output).
     #[arg(long)]
     seed: Option<u64>,
-    /// Number of evenly spaced times at which observables are recorded (for --csv).
+    /// Number of evenly spaced times at which observables are recorded (for a .csv output).
     #[arg(long)]
     series: Option<usize>,
-    /// Write the snapshots as a PNG figure.
-    #[arg(long, value_name = "FILE.png")]
-    out: Option<PathBuf>,
-    /// Write the observable time series as CSV (with the parameters in '#' header lines).
-    #[arg(long, value_name = "FILE.csv")]
+    /// Output file, repeatable; the extension picks the format: .png (the snapshots), .gif
+    /// (an animation), .csv (the observable time series, parameters in '#' header lines).
+    #[arg(long, value_name = "FILE")]
+    out: Vec<PathBuf>,
+    /// Old spelling of `--out FILE.csv` (kept for one release).
+    #[arg(long, value_name = "FILE.csv", hide = true)]
     csv: Option<PathBuf>,
-    /// Write an animated GIF of the growth.
-    #[arg(long, value_name = "FILE.gif")]
+    /// Old spelling of `--out FILE.gif` (kept for one release).
+    #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
-    /// Frames in the GIF.
+    /// Frames in the GIF, 1 to 2000.
     #[arg(long, default_value_t = 60)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
     /// Print the configuration as a scenario file and exit.
     #[arg(long)]
     print_scenario: bool,
+}
+
+/// The `--help` text that lists a scene's defaults (its scenario file).
+pub fn defaults_help(scene: SceneKind) -> String {
+    let mut s = format!(
+        "Defaults of `cellsurf {scene}` (options left out keep these; print them with \
+         --print-scenario, start from a file with --scenario):\n"
+    );
+    for line in SceneConfig::defaults(scene).to_toml().lines() {
+        s.push_str(&format!("  {line}\n"));
+    }
+    s
 }
 
 #[derive(Args)]
@@ -114,31 +129,6 @@ pub struct ConvergeArgs {
     /// growth only: print the curves as JSON.
     #[arg(long)]
     json: bool,
-}
-
-/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
-fn parse_count(s: &str) -> Result<u64, String> {
-    let t = s.trim();
-    if let Ok(v) = t.parse::<u64>() {
-        return Ok(v);
-    }
-    let bad = || format!("'{s}' is not a whole non-negative number (e.g. 100000 or 1e5)");
-    let v: f64 = t.parse().map_err(|_| bad())?;
-    if !v.is_finite() || v < 0.0 || v.fract() != 0.0 || v > 1.8e19 {
-        return Err(bad());
-    }
-    Ok(v as u64)
-}
-
-fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("'{s}' is not a size: expected W or WxH with whole numbers, e.g. 200x230");
-    let (w, h) = match s.split_once(['x', 'X']) {
-        Some((w, h)) => (w, h),
-        None => (s, s),
-    };
-    let w: usize = w.trim().parse().map_err(|_| bad())?;
-    let h: usize = h.trim().parse().map_err(|_| bad())?;
-    Ok((w, h))
 }
 
 /// The configuration: scenario file or scene defaults, then each given option.
@@ -298,11 +288,25 @@ impl RunHooks for CliHooks {
 }
 
 pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
+    conv::synonyms(&[
+        ("width", "size"),
+        ("height", "size"),
+        ("lattice width", "size"),
+        ("lattice height", "size"),
+    ]);
+    conv::set_quiet(a.quiet);
     let cfg = config(scene, &a)?;
     if a.print_scenario {
         print!("{}", cfg.to_toml());
         return Ok(());
     }
+    let mut outs = Outputs::new(
+        &a.out,
+        scene.name(),
+        &[Format::Png, Format::Gif, Format::Csv],
+    )?;
+    outs.add_legacy(Format::Csv, a.csv.as_ref())?;
+    outs.add_legacy(Format::Gif, a.gif.as_ref())?;
     let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
@@ -310,7 +314,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     bar.set_message(format!("{scene} {}x{}", cfg.width, cfg.height));
-    let gif = match &a.gif {
+    let gif = match outs.get(Format::Gif) {
         Some(p) => Some(GifWriter::create(
             p,
             cfg.width,
@@ -345,22 +349,27 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         gif,
         gif_error: None,
         hex: cfg.lattice.is_hex(),
-        series: a.csv.is_some(),
-        snapshots: a.out.is_some(),
+        series: outs.get(Format::Csv).is_some(),
+        snapshots: outs.get(Format::Png).is_some(),
     };
     let r = scene::run(&cfg, &mut hooks)?;
     hooks.bar.finish_and_clear();
+    let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
     if let Some(e) = hooks.gif_error.take() {
-        return Err(e.context("writing --gif"));
+        return Err(e.context(format!("writing {flag} .gif")));
     }
-    if let (Some(gif), Some(p)) = (hooks.gif.take(), &a.gif) {
+    if let (Some(gif), Some(p)) = (hooks.gif.take(), outs.get(Format::Gif)) {
         gif.finish()
-            .with_context(|| format!("writing --gif {}", p.display()))?;
+            .with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
     cellsurf::plot::set_png_parameters(Some(cfg.to_toml()));
-    if let Some(p) = &a.out {
+    if let Some(p) = outs.get(Format::Png) {
         if r.snapshots.is_empty() {
-            bail!("--out needs at least one snapshot (--snapshots)");
+            bail!(
+                "{flag} {} needs at least one snapshot (--snapshots)",
+                p.display()
+            );
         }
         figures::draw_snapshots(
             p,
@@ -368,13 +377,15 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
             &r,
             &palette(scene),
         )
-        .with_context(|| format!("writing --out {}", p.display()))?;
+        .with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
-    if let Some(p) = &a.csv {
-        write_csv(p, &r).with_context(|| format!("writing --csv {}", p.display()))?;
+    if let Some(p) = outs.get(Format::Csv) {
+        write_csv(p, &r).with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary(&r))?);
+        println!("{}", serde_json::to_string(&summary(&r)?)?);
     } else {
         print_summary(&r);
     }
@@ -389,7 +400,7 @@ fn peak_rss_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-fn summary(r: &RunResult) -> serde_json::Value {
+fn summary(r: &RunResult) -> Result<serde_json::Value> {
     let c = &r.config;
     let mut v = serde_json::json!({
         "scene": c.scene.name(),
@@ -401,22 +412,19 @@ fn summary(r: &RunResult) -> serde_json::Value {
         "occupied": r.last.occupied,
         "surface_sites": r.last.surface,
         "stop_reason": r.stop,
-        "elapsed_s": r.elapsed_s,
         "setup_s": r.setup_s,
         "observe_s": r.observe_s,
         "accepted_per_s": r.last.accepted as f64 / (r.elapsed_s - r.observe_s).max(1e-12),
         "memory_bytes": r.memory_bytes,
         "bytes_per_cell": r.memory_bytes as f64 / (c.width * c.height) as f64,
         "peak_rss_bytes": peak_rss_bytes(),
-        "version": VERSION,
-        "parameters": c,
     });
     if let (Some(obj), Ok(serde_json::Value::Object(o))) =
         (v.as_object_mut(), serde_json::to_value(r.last.values))
     {
         obj.extend(o);
     }
-    v
+    conv::envelope("growth", c, r.elapsed_s, v)
 }
 
 fn print_summary(r: &RunResult) {
@@ -478,13 +486,13 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;
         let t = Instant::now();
         for p in cellsurf::figures::make(f, &a.out_dir, true)? {
-            eprintln!("wrote {}", p.display());
+            conv::wrote(&p);
         }
-        eprintln!(
+        conv::note(format_args!(
             "{} re-measured in {:.1} s",
             a.study,
             t.elapsed().as_secs_f64()
-        );
+        ));
         return Ok(());
     }
     if a.seeds < 3 || a.seeds > 10_000 {
@@ -506,7 +514,7 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         written.extend(table.write(&a.out_dir, name)?);
     }
     for p in &written {
-        eprintln!("wrote {}", p.display());
+        conv::wrote(p);
     }
     if a.json {
         println!("{}", serde_json::to_string(&curves)?);

@@ -1,5 +1,6 @@
 //! The subcommands, one file per family: the growth scenes (and their convergence study),
 //! the figures, and each related model.
+pub mod conv;
 pub mod cursor;
 pub mod dunes;
 pub mod figures;

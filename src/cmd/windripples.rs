@@ -10,10 +10,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use cellsurf::engine::io::write_atomic;
 use cellsurf::windripples::{self, Schedule, WindParams, WindRun};
 
-use cellsurf::engine::VERSION;
+use super::conv::{self, Format, Outputs, Size};
 
 /// Options of `cellsurf wind-ripples` (defaults: the notebook's `Params()`).
-#[derive(clap::Args)]
+#[derive(clap::Args, serde::Serialize, serde::Deserialize)]
 #[command(
     long_about = "Wind ripples: the particle model of the wind-ripple notebook.\n\n\
         N particles on the unit torus; each step: diffusion x, y += sigma N(0,1) with \
@@ -22,19 +22,23 @@ use cellsurf::engine::VERSION;
         density normalisation (mean 1); saltation y += L sigmoid(-kappa h(cell)).\n\n\
         Examples:\n  cellsurf wind-ripples --out ripples.png\n  \
         cellsurf wind-ripples --steps 128 --json\n  \
-        cellsurf wind-ripples --schedule constant --kappa 0 --npy h.npy --threads 1"
+        cellsurf wind-ripples --schedule constant --kappa 0 --out h.npy --threads 1"
 )]
 pub struct Args {
-    /// Steps of the loop (notebook N_step).
-    #[arg(long, default_value_t = WindParams::default().steps)]
+    /// Start from this scenario file (TOML, `model = "wind-ripples"`); options typed here
+    /// override it.
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
+    /// Steps of the loop (notebook N_step; `1e3` accepted).
+    #[arg(long, value_name = "N", value_parser = conv::parse_count, default_value_t = WindParams::default().steps)]
     steps: u64,
     /// Number of particles N (notebook N_particles = 2**16 * 8), 1 to 2^30; 24 bytes of memory
     /// each (48 while they are re-sorted).
     #[arg(long, default_value_t = WindParams::default().particles)]
     particles: usize,
-    /// Histogram cells per side (bins x bins cells), 1 to 4096.
-    #[arg(long, default_value_t = WindParams::default().bins)]
-    bins: usize,
+    /// Histogram size in cells, N or NxN (square, N from 1 to 4096).
+    #[arg(long, value_name = "N", alias = "bins", default_value_t = Size::square(WindParams::default().bins))]
+    size: Size,
     /// Saltation sensitivity kappa >= 0 (hop = L sigmoid(-kappa h), h has mean 1).
     #[arg(long, default_value_t = WindParams::default().kappa, allow_negative_numbers = true, value_parser = parse_number)]
     kappa: f64,
@@ -55,19 +59,23 @@ pub struct Args {
     /// Worker threads; 0 = all cores. The results do not depend on it.
     #[arg(long, default_value_t = 0)]
     threads: usize,
-    /// Write a picture of the final height field (PNG).
-    #[arg(long, value_name = "FILE.png")]
-    out: Option<PathBuf>,
-    /// Write the final height field as a bins x bins float64 .npy (index [ix, iy] as the
-    /// notebook's height), with the parameters in FILE.npy.json.
-    #[arg(long, value_name = "FILE.npy")]
+    /// Output file, repeatable; the extension picks the format: .png (a picture of the final
+    /// height field), .npy (the final height field, N x N float64, index [ix, iy] as the
+    /// notebook's height; parameters in the sidecar NAME.json).
+    #[arg(long, value_name = "FILE")]
+    out: Vec<PathBuf>,
+    /// Old spelling of `--out FILE.npy` (kept for one release).
+    #[arg(long, value_name = "FILE.npy", hide = true)]
     npy: Option<PathBuf>,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Print the run's scenario file (TOML) and exit.
+    #[arg(long)]
+    print_scenario: bool,
 }
 
 /// A number, or a fraction `a/b` of two numbers (e.g. `1/64`).
@@ -101,16 +109,14 @@ fn check_output(flag: &str, p: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The summary printed by `--json` and written next to `--npy`.
-fn summary(r: &WindRun, threads: usize) -> serde_json::Value {
+/// The summary printed by `--json` and written next to a `.npy` output.
+fn summary(a: &Args, r: &WindRun, threads: usize) -> Result<serde_json::Value> {
     let p = &r.params;
     let s = &r.stats;
-    serde_json::json!({
-        "model": "wind-ripples",
+    let own = serde_json::json!({
         "steps": p.steps,
         "particles": p.particles,
         "bins": p.bins,
-        "elapsed_s": r.elapsed_s,
         "setup_s": r.setup_s,
         "particle_steps_per_s": p.steps as f64 * p.particles as f64 / r.elapsed_s.max(1e-12),
         "height_mean": s.height_mean,
@@ -118,15 +124,25 @@ fn summary(r: &WindRun, threads: usize) -> serde_json::Value {
         "wavelength_bins": s.wavelength_bins,
         "mean_wavelength_bins": s.mean_wavelength_bins,
         "threads": threads,
-        "version": VERSION,
-        "parameters": p,
-    })
+        "run": p,
+    });
+    conv::envelope("wind-ripples", conv::scenario_table(a)?, r.elapsed_s, own)
 }
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
+    conv::synonyms(&[("bins", "size")]);
+    conv::set_quiet(a.quiet);
+    let scenario = a.scenario.clone();
+    let a = conv::merge_scenario(a, scenario.as_deref(), "wind-ripples")?;
+    if a.print_scenario {
+        print!("{}", conv::scenario_text(&a, "wind-ripples")?);
+        return Ok(());
+    }
+    let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
+    outs.add_legacy(Format::Npy, a.npy.as_ref())?;
     let params = WindParams {
-        bins: a.bins,
+        bins: a.size.side()?,
         particles: a.particles,
         steps: a.steps,
         hop: a.hop,
@@ -144,11 +160,11 @@ pub fn run(a: Args) -> Result<()> {
             a.threads
         );
     }
-    if let Some(p) = &a.out {
-        check_output("--out", p)?;
-    }
-    if let Some(p) = &a.npy {
-        check_output("--npy", p)?;
+    let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
+    for f in [Format::Png, Format::Npy] {
+        if let Some(p) = outs.get(f) {
+            check_output(&flag, p)?;
+        }
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads)
@@ -180,15 +196,17 @@ pub fn run(a: Args) -> Result<()> {
     })?;
     bar.finish_and_clear();
 
-    if let Some(p) = &a.out {
+    if let Some(p) = outs.get(Format::Png) {
         cellsurf::plot::set_png_parameters(Some(params.describe_toml()));
         windripples::figures::draw_height(p, &r)
-            .with_context(|| format!("writing --out {}", p.display()))?;
+            .with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
     }
-    if let Some(p) = &a.npy {
+    if let Some(p) = outs.get(Format::Npy) {
         let bytes = windripples::npy_bytes(&r.height, &[params.bins, params.bins]);
-        write_atomic(p, &bytes).with_context(|| format!("writing --npy {}", p.display()))?;
-        let mut side = summary(&r, threads);
+        write_atomic(p, &bytes).with_context(|| format!("writing {flag} {}", p.display()))?;
+        conv::wrote(p);
+        let mut side = summary(&a, &r, threads)?;
         if let Some(o) = side.as_object_mut() {
             o.insert("parameters_toml".into(), params.describe_toml().into());
             o.insert(
@@ -199,17 +217,16 @@ pub fn run(a: Args) -> Result<()> {
                 ),
             );
         }
-        let mut name = p.as_os_str().to_owned();
-        name.push(".json");
-        let side_path = PathBuf::from(name);
+        let side_path = p.with_extension("json");
         write_atomic(
             &side_path,
             format!("{}\n", serde_json::to_string_pretty(&side)?).as_bytes(),
         )
         .with_context(|| format!("writing {}", side_path.display()))?;
+        conv::wrote(&side_path);
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary(&r, threads))?);
+        println!("{}", serde_json::to_string(&summary(&a, &r, threads)?)?);
     } else {
         let s = &r.stats;
         let f = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3} bins"));
@@ -229,11 +246,6 @@ pub fn run(a: Args) -> Result<()> {
             f(s.wavelength_bins),
             f(s.mean_wavelength_bins)
         );
-        for (flag, p) in [("--out", &a.out), ("--npy", &a.npy)] {
-            if let Some(p) = p {
-                println!("  wrote {} ({flag})", p.display());
-            }
-        }
     }
     Ok(())
 }

@@ -42,6 +42,15 @@ pub enum SceneKind {
 }
 
 impl SceneKind {
+    /// Every scene, in the order of the paper's figures.
+    pub const ALL: [SceneKind; 5] = [
+        SceneKind::Ca,
+        SceneKind::Flame,
+        SceneKind::Deposit,
+        SceneKind::Crystal,
+        SceneKind::Grow,
+    ];
+
     /// The scene's name.
     pub fn name(self) -> &'static str {
         match self {
@@ -423,7 +432,7 @@ impl SceneConfig {
         let (pw, ph) = lattice.physical_size();
         let s = self.start;
         let ok = match self.shape {
-            Shape::Point => true,
+            Shape::Point => s.is_finite() && s >= 0.0,
             Shape::Square | Shape::Disc => s.is_finite() && s > 0.0 && s <= pw.min(ph),
             Shape::Cosine => s.is_finite() && s >= 0.0 && 2.0 * s + 0.1 * ph < ph,
             Shape::Flat => s.is_finite() && s > 0.0 && s < ph,
@@ -443,7 +452,10 @@ impl SceneConfig {
                     "the amplitude must be >= 0 and the trough fit the lattice (below {:.1})",
                     0.45 * ph
                 ),
-                _ => format!("the layer must be > 0 and thinner than the lattice ({ph:.1})"),
+                Shape::Flat => {
+                    format!("the layer must be > 0 and thinner than the lattice ({ph:.1})")
+                }
+                Shape::Point => "a finite size >= 0 cell widths (unused by a point)".into(),
             };
             return Err(range("start", s, expected));
         }

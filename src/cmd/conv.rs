@@ -1,0 +1,534 @@
+//! The conventions every subcommand shares (written up in `docs/cli.md`).
+//!
+//! - Counts (`--steps`, `--events`, ...) accept scientific notation: [`parse_count`].
+//! - Grids are `--size WxH` (or `N` for a square): [`parse_size`].
+//! - `--out FILE` may be repeated; the extension picks the format: [`Outputs`]. A `.npy` output
+//!   `NAME.npy` keeps its parameters in the sidecar `NAME.json`.
+//! - `--json` prints one object: [`envelope`] (`model`, `version`, `parameters`, `elapsed_s`,
+//!   `outputs`, then the model's own keys).
+//! - `--scenario FILE.toml` starts from a scenario file, options typed on the command line
+//!   override it; `--print-scenario` prints the run's scenario: [`merge_scenario`],
+//!   [`scenario_text`].
+//! - `--quiet`: no progress bar and no chatter; every file written is reported on stderr
+//!   otherwise: [`wrote`], [`note`].
+//! - Errors name the flag as the user typed it: [`typed_flag`], [`render_error`].
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, OnceLock};
+
+use anyhow::{Context, Result, bail};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, Command};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+use cellsurf::engine::VERSION;
+
+/// The subcommand as parsed: its definition, its matches and the words the user typed.
+struct Invocation {
+    command: Command,
+    matches: ArgMatches,
+    /// The words after the subcommand's name.
+    words: Vec<String>,
+}
+
+static INVOCATION: OnceLock<Invocation> = OnceLock::new();
+static QUIET: AtomicBool = AtomicBool::new(false);
+static WRITTEN: Mutex<Vec<String>> = Mutex::new(Vec::new());
+/// Library parameter names that are not the flag's id (e.g. `width` for `--size`).
+static SYNONYMS: Mutex<Vec<(&'static str, &'static str)>> = Mutex::new(Vec::new());
+
+/// Records the subcommand's definition and matches, for [`typed`] and [`typed_flag`].
+pub fn init(command: Command, matches: ArgMatches, words: Vec<String>) {
+    let _ = INVOCATION.set(Invocation {
+        command,
+        matches,
+        words,
+    });
+}
+
+/// Names that the library uses for a parameter whose flag has another id, e.g.
+/// `("width", "size")`: an error about `width` then names `--size`.
+pub fn synonyms(pairs: &[(&'static str, &'static str)]) {
+    if let Ok(mut s) = SYNONYMS.lock() {
+        s.extend_from_slice(pairs);
+    }
+}
+
+/// Whether the option with this id (the field name) was given on the command line.
+pub fn typed(id: &str) -> bool {
+    INVOCATION.get().is_some_and(|inv| {
+        inv.matches
+            .try_contains_id(id)
+            .unwrap_or(false)
+            .then(|| inv.matches.value_source(id))
+            .flatten()
+            == Some(ValueSource::CommandLine)
+    })
+}
+
+/// The flag with this id as the user typed it (`--grid`, `-g` or `--size`), or its long form
+/// if it was not typed; `None` if the subcommand has no such option.
+pub fn typed_flag(id: &str) -> Option<String> {
+    let inv = INVOCATION.get()?;
+    let arg = inv.command.get_arguments().find(|a| a.get_id() == id)?;
+    let longs: Vec<&str> = arg
+        .get_long()
+        .into_iter()
+        .chain(arg.get_all_aliases().unwrap_or_default())
+        .collect();
+    let shorts: Vec<char> = arg
+        .get_short()
+        .into_iter()
+        .chain(arg.get_all_short_aliases().unwrap_or_default())
+        .collect();
+    for w in &inv.words {
+        if w == "--" {
+            break;
+        }
+        if let Some(rest) = w.strip_prefix("--") {
+            let name = rest.split('=').next().unwrap_or(rest);
+            if longs.contains(&name) {
+                return Some(format!("--{name}"));
+            }
+        } else if let Some(rest) = w.strip_prefix('-')
+            && let Some(c) = rest.chars().next()
+            && shorts.contains(&c)
+        {
+            return Some(format!("-{c}"));
+        }
+    }
+    arg.get_long().map(|l| format!("--{l}"))
+}
+
+/// Sets `--quiet` for [`wrote`] and [`note`].
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// Whether `--quiet` was given.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
+/// Reports a file written (on stderr unless `--quiet`) and lists it in the JSON `outputs`.
+pub fn wrote(path: &Path) {
+    if !quiet() {
+        eprintln!("wrote {}", path.display());
+    }
+    if let Ok(mut w) = WRITTEN.lock() {
+        w.push(path.display().to_string());
+    }
+}
+
+/// A line of chatter on stderr (not with `--quiet`).
+pub fn note(msg: impl std::fmt::Display) {
+    if !quiet() {
+        eprintln!("{msg}");
+    }
+}
+
+/// The files reported by [`wrote`] so far.
+pub fn written() -> Vec<String> {
+    WRITTEN.lock().map(|w| w.clone()).unwrap_or_default()
+}
+
+/// The one `--json` envelope: `model`, `version`, `parameters` (typed, as in the scenario
+/// file), `elapsed_s`, `outputs` (every file written), then the model's own keys.
+pub fn envelope(
+    model: &str,
+    parameters: impl Serialize,
+    elapsed_s: f64,
+    own: serde_json::Value,
+) -> Result<serde_json::Value> {
+    let mut v = serde_json::Map::new();
+    v.insert("model".into(), model.into());
+    v.insert("version".into(), VERSION.into());
+    v.insert("parameters".into(), serde_json::to_value(parameters)?);
+    v.insert("elapsed_s".into(), elapsed_s.into());
+    v.insert("outputs".into(), written().into());
+    if let serde_json::Value::Object(o) = own {
+        for (k, x) in o {
+            if !v.contains_key(&k) {
+                v.insert(k, x);
+            }
+        }
+    }
+    Ok(serde_json::Value::Object(v))
+}
+
+/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
+pub fn parse_count(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    if let Ok(v) = t.parse::<u64>() {
+        return Ok(v);
+    }
+    let bad = || format!("'{s}' is not a whole non-negative number (e.g. 100000 or 1e5)");
+    let v: f64 = t.parse().map_err(|_| bad())?;
+    if !v.is_finite() || v < 0.0 || v.fract() != 0.0 || v > 1.8e19 {
+        return Err(bad());
+    }
+    Ok(v as u64)
+}
+
+/// A grid size `WxH`, or `N` for `N x N`, in cells (whole numbers of at least 1).
+pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("'{s}' is not a size: expected N or WxH in cells, e.g. 128 or 200x230");
+    let (w, h) = match s.split_once(['x', 'X']) {
+        Some((w, h)) => (w, h),
+        None => (s, s),
+    };
+    let w: usize = w.trim().parse().map_err(|_| bad())?;
+    let h: usize = h.trim().parse().map_err(|_| bad())?;
+    if w == 0 || h == 0 {
+        return Err(format!(
+            "'{s}' has a zero side: each side is at least 1 cell"
+        ));
+    }
+    Ok((w, h))
+}
+
+/// A grid size in cells, `WxH` (or `N` for a square), as typed and as written in scenario
+/// files (a string, or a whole number for a square).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    /// Cells along x.
+    pub w: usize,
+    /// Cells along y.
+    pub h: usize,
+}
+
+impl Size {
+    /// A square of side `n`.
+    pub const fn square(n: usize) -> Size {
+        Size { w: n, h: n }
+    }
+
+    /// The side of a square size; an error naming `--size` (as typed) otherwise.
+    pub fn side(self) -> Result<usize> {
+        if self.w != self.h {
+            let flag = typed_flag("size").unwrap_or_else(|| "--size".into());
+            bail!("{flag} = {self} is out of range: this grid is square, give N or NxN");
+        }
+        Ok(self.w)
+    }
+}
+
+impl std::fmt::Display for Size {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.w, self.h)
+    }
+}
+
+impl std::str::FromStr for Size {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Size, String> {
+        parse_size(s).map(|(w, h)| Size { w, h })
+    }
+}
+
+impl Serialize for Size {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.to_string())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Size {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Size, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            N(u64),
+            S(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::N(n) => Ok(Size::square(n as usize)),
+            Raw::S(s) => s.parse().map_err(serde::de::Error::custom),
+        }
+    }
+}
+
+/// The output formats, picked by the extension of `--out`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    Gif,
+    Csv,
+    Nc,
+    Npy,
+    Bty,
+    Zarr,
+}
+
+impl Format {
+    /// The extension, without the dot.
+    pub fn ext(self) -> &'static str {
+        match self {
+            Format::Png => "png",
+            Format::Gif => "gif",
+            Format::Csv => "csv",
+            Format::Nc => "nc",
+            Format::Npy => "npy",
+            Format::Bty => "bty",
+            Format::Zarr => "zarr",
+        }
+    }
+
+    const ALL: [Format; 7] = [
+        Format::Png,
+        Format::Gif,
+        Format::Csv,
+        Format::Nc,
+        Format::Npy,
+        Format::Bty,
+        Format::Zarr,
+    ];
+
+    /// The format of a path, from its extension (case-insensitive).
+    pub fn of(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Format::ALL.into_iter().find(|f| f.ext() == ext)
+    }
+}
+
+/// The files named by `--out` (repeatable), one per format.
+#[derive(Debug, Default)]
+pub struct Outputs {
+    files: Vec<(Format, PathBuf)>,
+}
+
+impl Outputs {
+    /// Sorts the `--out` files by format; refuses an extension this subcommand does not write
+    /// and two files of one format.
+    pub fn new(paths: &[PathBuf], subcommand: &str, accepted: &[Format]) -> Result<Outputs> {
+        let flag = typed_flag("out").unwrap_or_else(|| "--out".into());
+        let list = || {
+            accepted
+                .iter()
+                .map(|f| format!(".{}", f.ext()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut files: Vec<(Format, PathBuf)> = Vec::new();
+        for p in paths {
+            let Some(f) = Format::of(p).filter(|f| accepted.contains(f)) else {
+                bail!(
+                    "{flag} {}: `cellsurf {subcommand}` writes {} (the extension picks the \
+                     format)",
+                    p.display(),
+                    list()
+                );
+            };
+            if let Some((_, q)) = files.iter().find(|(g, _)| *g == f) {
+                bail!(
+                    "{flag} {} and {flag} {}: one .{} output per run",
+                    q.display(),
+                    p.display(),
+                    f.ext()
+                );
+            }
+            files.push((f, p.clone()));
+        }
+        Ok(Outputs { files })
+    }
+
+    /// The file of this format, if one was asked for.
+    pub fn get(&self, f: Format) -> Option<&Path> {
+        self.files
+            .iter()
+            .find(|(g, _)| *g == f)
+            .map(|(_, p)| p.as_path())
+    }
+
+    /// Adds a file given by an old spelling (`--gif FILE`, `--npy FILE`), if the format has
+    /// none yet.
+    pub fn add_legacy(&mut self, f: Format, p: Option<&PathBuf>) -> Result<()> {
+        if let Some(p) = p {
+            if self.get(f).is_some() {
+                bail!("two .{} outputs given: one per run", f.ext());
+            }
+            self.files.push((f, p.clone()));
+        }
+        Ok(())
+    }
+}
+
+/// Keys of the argument structure that are about input and output, not the model: never
+/// read from nor written to a scenario file.
+pub const IO_KEYS: [&str; 9] = [
+    "scenario",
+    "print_scenario",
+    "out",
+    "json",
+    "quiet",
+    "gif",
+    "npy",
+    "gif_frames",
+    "threads",
+];
+
+fn is_io(key: &str) -> bool {
+    IO_KEYS.contains(&key)
+}
+
+fn table<A: Serialize>(args: &A) -> Result<toml::Table> {
+    match toml::Value::try_from(args).context("parameters as TOML")? {
+        toml::Value::Table(t) => Ok(t),
+        _ => bail!("parameters are not a table"),
+    }
+}
+
+/// The model parameters of a run (the options except input/output ones), for the `--json`
+/// envelope's `parameters`.
+pub fn scenario_table<A: Serialize>(args: &A) -> Result<toml::Table> {
+    let mut t = table(args)?;
+    t.retain(|k, _| !is_io(k));
+    Ok(t)
+}
+
+/// The scenario file of a run: `model = "..."`, then every model parameter (the options
+/// except input/output ones).
+pub fn scenario_text<A: Serialize>(args: &A, model: &str) -> Result<String> {
+    let t = scenario_table(args)?;
+    let mut s = format!("# cellsurf {VERSION} scenario: `cellsurf {model} --scenario FILE`\n");
+    s.push_str(&format!("model = \"{model}\"\n"));
+    s.push_str(&toml::to_string(&t).context("scenario as TOML")?);
+    Ok(s)
+}
+
+/// The options of a run from `--scenario FILE` (if given) and the command line: a value typed
+/// on the command line wins, then the file's, then the option's default. The file must name
+/// this model and only its parameters.
+pub fn merge_scenario<A: Serialize + DeserializeOwned>(
+    args: A,
+    scenario: Option<&Path>,
+    model: &str,
+) -> Result<A> {
+    let Some(path) = scenario else {
+        return Ok(args);
+    };
+    let flag = typed_flag("scenario").unwrap_or_else(|| "--scenario".into());
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read {flag} {}", path.display()))?;
+    let mut file: toml::Table = text
+        .parse()
+        .with_context(|| format!("{flag} {} is not TOML", path.display()))?;
+    match file.remove("model") {
+        Some(toml::Value::String(m)) if m == model => {}
+        Some(toml::Value::String(m)) => bail!(
+            "{flag} {} is a '{m}' scenario, not '{model}': run `cellsurf {m} --scenario {}`",
+            path.display(),
+            path.display()
+        ),
+        _ => bail!(
+            "{flag} {}: the file must name its model, `model = \"{model}\"`",
+            path.display()
+        ),
+    }
+    let mut merged = table(&args)?;
+    for (k, v) in file {
+        if is_io(&k) || !merged.contains_key(&k) && !known_option(&k) {
+            bail!(
+                "{flag} {}: '{k}' is not a parameter of `cellsurf {model}` (print one with \
+                 --print-scenario)",
+                path.display()
+            );
+        }
+        if !typed(&k) {
+            merged.insert(k, v);
+        }
+    }
+    toml::Value::Table(merged)
+        .try_into()
+        .with_context(|| format!("in {flag} {}", path.display()))
+}
+
+/// Whether the subcommand has an option with this id (an optional one may be absent from the
+/// serialised arguments).
+fn known_option(id: &str) -> bool {
+    INVOCATION
+        .get()
+        .is_some_and(|inv| inv.command.get_arguments().any(|a| a.get_id() == id))
+}
+
+/// The error as printed: its chain joined by ": ", where the innermost message's leading
+/// parameter name (`until_occupied = 2 is out of range ...`) becomes the flag as the user
+/// typed it (`--until-occupied = 2 ...`) when that option was given on the command line.
+pub fn render_error(e: &anyhow::Error) -> String {
+    let parts: Vec<String> = e.chain().map(|c| c.to_string()).collect();
+    let n = parts.len();
+    parts
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| if i + 1 == n { flagged(&p) } else { p })
+        .collect::<Vec<_>>()
+        .join(": ")
+}
+
+fn flagged(msg: &str) -> String {
+    let Some((name, rest)) = msg.split_once(" = ") else {
+        return msg.to_string();
+    };
+    let key = name.trim_start_matches("--").replace(['-', ' '], "_");
+    let synonyms = SYNONYMS.lock().map(|s| s.clone()).unwrap_or_default();
+    let synonym = synonyms
+        .iter()
+        .find(|(from, _)| *from == key || *from == name);
+    let id = synonym.map_or(key.as_str(), |(_, to)| to);
+    if typed(id)
+        && let Some(flag) = typed_flag(id)
+    {
+        return match synonym {
+            Some(_) => format!("{flag} ({name}) = {rest}"),
+            None => format!("{flag} = {rest}"),
+        };
+    }
+    msg.to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_count_accepts_scientific_notation() {
+        assert_eq!(parse_count("1e7"), Ok(10_000_000));
+        assert_eq!(parse_count("2.5e6"), Ok(2_500_000));
+        assert_eq!(parse_count("42"), Ok(42));
+        assert!(parse_count("-1").is_err());
+        assert!(parse_count("1.5").is_err());
+        assert!(parse_count("1e30").is_err());
+    }
+
+    #[test]
+    fn parse_size_square_and_rectangle() {
+        assert_eq!(parse_size("128"), Ok((128, 128)));
+        assert_eq!(parse_size("200x230"), Ok((200, 230)));
+        assert!(parse_size("0x4").unwrap_err().contains("zero side"));
+        assert!(parse_size("ax4").is_err());
+    }
+
+    #[test]
+    fn format_from_extension() {
+        assert_eq!(Format::of(Path::new("a/b.PNG")), Some(Format::Png));
+        assert_eq!(Format::of(Path::new("s.zarr")), Some(Format::Zarr));
+        assert_eq!(Format::of(Path::new("noext")), None);
+        let o = Outputs::new(
+            &[PathBuf::from("x.png"), PathBuf::from("y.gif")],
+            "dunes",
+            &[Format::Png, Format::Gif],
+        )
+        .unwrap();
+        assert_eq!(o.get(Format::Gif), Some(Path::new("y.gif")));
+        let e = Outputs::new(&[PathBuf::from("x.nc")], "dunes", &[Format::Png]).unwrap_err();
+        assert!(e.to_string().contains("--out x.nc"), "{e}");
+        let e = Outputs::new(
+            &[PathBuf::from("x.png"), PathBuf::from("y.png")],
+            "dunes",
+            &[Format::Png],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("one .png output"), "{e}");
+    }
+}
