@@ -27,6 +27,20 @@
 //! - [`Transitions`] and [`CursorWalk`] (module [`walk`]): the per-cell cumulative tables of
 //!   the eight probabilities (one random number and seven comparisons per step) and the walker
 //!   with its heights;
+//!
+//! ```
+//! use cellsurf::cursor::{CursorWalk, Transitions, WindSpec};
+//!
+//! // A uniform wind (the article's Fig. 4 settings) on a 60 x 60 torus.
+//! let field = WindSpec::article("uniform").unwrap().field(60, 60).unwrap();
+//! let tr = Transitions::new(&field, 0.95).unwrap();
+//! let mut walk = CursorWalk::new(&tr, 7);
+//! walk.run(100_000);
+//! // Each step adds one unit of height where the cursor arrives.
+//! assert_eq!(walk.height_total(), 100_000);
+//! // k outside [0, 1] would make a probability negative: refused.
+//! assert!(Transitions::new(&field, 1.5).is_err());
+//! ```
 //! - [`SeaLevel`] (module [`display`]): the article's "sea level" flooding and the colour map;
 //! - [`stats`]: density error, its exact expectation for uniform winds ([`stats::NoiseModel`]),
 //!   drift, error-against-steps slope;

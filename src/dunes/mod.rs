@@ -20,6 +20,24 @@
 //! error-against-run-time study; the figures (feature `plot`) are in
 //! `FIGURES`, drawn by the functions of the private `plot` module re-exported here.
 //!
+//! ```
+//! use cellsurf::dunes::{DuneConfig, DuneModel, Mode};
+//!
+//! // Dune mode (`-d`) with sand quantity Q = 1 on a 32 x 32 torus, 20 iterations.
+//! let cfg = DuneConfig { mode: Mode::Dune, grid: 32, iterations: 20, ..DuneConfig::default() };
+//! let mut m = DuneModel::new(&cfg).unwrap();
+//! let before: u64 = m.grains().iter().sum();
+//! for _ in 0..cfg.iterations {
+//!     m.step();
+//! }
+//! // Sand moves but is never created or destroyed (heights are whole grains).
+//! assert_eq!(m.grains().iter().sum::<u64>(), before);
+//! assert_eq!(m.stats().sand_change, 0);
+//! // A grid too small for a torus is refused, naming the parameter.
+//! let bad = DuneConfig { grid: 2, ..DuneConfig::default() };
+//! assert!(bad.validate().unwrap_err().to_string().starts_with("grid = 2"));
+//! ```
+//!
 //! # The article's model ("Werner model" dune patterns, the follow-up of a Werner wind-ripple
 //! article; our readings of its ambiguous passages are stated below)
 //!

@@ -20,6 +20,20 @@
 //!
 //! Equations (2) and (3) are those of "Simple Monte Carlo cellular models for surface growth"
 //! (the growth paper).
+//!
+//! ```
+//! use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
+//!
+//! // A 6 x 4 hexagonal torus: every cell has 6 neighbours, and neighbourhood is symmetric.
+//! let l = Lattice::new(Neighbourhood::Hex, 6, 4, Boundary::TORUS).unwrap();
+//! assert_eq!(l.len(), 24);
+//! for c in 0..l.len() {
+//!     assert_eq!(l.neighbours(c).count(), 6);
+//!     assert!(l.neighbours(c).all(|d| l.neighbours(d).any(|e| e == c)));
+//! }
+//! // An odd row count cannot close a hexagonal torus: a typed error names the axis.
+//! assert!(Lattice::new(Neighbourhood::Hex, 6, 5, Boundary::TORUS).is_err());
+//! ```
 
 pub mod io;
 pub mod lattice;

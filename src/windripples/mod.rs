@@ -19,6 +19,19 @@
 //! Figures (feature `plot`): [`FIGURES`] (`windripples_height`, `windripples_error_vs_time`),
 //! drawn by the `figures` module.
 //!
+//! ```
+//! use cellsurf::windripples::{self, WindParams};
+//!
+//! // 20 steps of 20,000 particles on 32 x 32 bins.
+//! let p = WindParams { bins: 32, particles: 20_000, steps: 20, ..WindParams::default() };
+//! let run = windripples::run(&p, |_| {}).unwrap();
+//! // The height is a density histogram: its mean is 1 by construction.
+//! assert!((run.stats.height_mean - 1.0).abs() < 1e-12);
+//! assert_eq!(run.height.len(), 32 * 32);
+//! // The same seed gives the same field, whatever the thread count.
+//! assert_eq!(windripples::run(&p, |_| {}).unwrap().height, run.height);
+//! ```
+//!
 //! # The model (the notebook's loop, exactly)
 //!
 //! `N` particles at `(x_i, y_i)` on the unit torus, initially uniform. Each step `s = 0, 1, ...`:
