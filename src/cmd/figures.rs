@@ -8,6 +8,8 @@ use clap::Args;
 
 use cellsurf::figures;
 
+use super::conv;
+
 #[derive(Args)]
 pub struct FiguresArgs {
     /// Make only this figure (see --list).
@@ -19,9 +21,13 @@ pub struct FiguresArgs {
     /// List the figures and exit.
     #[arg(long)]
     list: bool,
+    /// No chatter on stderr (the files written are not listed).
+    #[arg(long)]
+    quiet: bool,
 }
 
 pub fn run(a: FiguresArgs) -> Result<()> {
+    conv::set_quiet(a.quiet);
     if a.list {
         for f in figures::all() {
             println!("{:24} {}", f.name, f.about);
@@ -46,13 +52,15 @@ pub fn run(a: FiguresArgs) -> Result<()> {
     };
     let t0 = Instant::now();
     for f in chosen {
-        let t = Instant::now();
         let files =
             figures::make(f, &a.out_dir, false).with_context(|| format!("figure {}", f.name))?;
         for p in files {
-            println!("{}  ({:.2} s)", p.display(), t.elapsed().as_secs_f64());
+            conv::wrote(&p);
         }
     }
-    println!("all figures in {:.1} s", t0.elapsed().as_secs_f64());
+    conv::note(format_args!(
+        "figures made in {:.1} s",
+        t0.elapsed().as_secs_f64()
+    ));
     Ok(())
 }

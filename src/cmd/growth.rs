@@ -129,6 +129,9 @@ pub struct ConvergeArgs {
     /// growth only: print the curves as JSON.
     #[arg(long)]
     json: bool,
+    /// No chatter on stderr.
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// The configuration: scenario file or scene defaults, then each given option.
@@ -139,7 +142,8 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
                 .with_context(|| format!("cannot read --scenario {}", p.display()))?;
             let c = SceneConfig::from_toml(&text)
                 .with_context(|| format!("in --scenario {}", p.display()))?;
-            if c.scene != scene {
+            // `grow` runs any scene's scenario; a named scene runs only its own.
+            if c.scene != scene && scene != SceneKind::Grow {
                 bail!(
                     "--scenario {} is a '{}' scene, not '{}': run `cellsurf {}`",
                     p.display(),
@@ -296,6 +300,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     ]);
     conv::set_quiet(a.quiet);
     let cfg = config(scene, &a)?;
+    let scene = cfg.scene;
     if a.print_scenario {
         print!("{}", cfg.to_toml());
         return Ok(());
@@ -478,6 +483,7 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
 }
 
 pub fn converge(a: ConvergeArgs) -> Result<()> {
+    conv::set_quiet(a.quiet);
     if a.study != "growth" {
         if a.json || a.seeds != figures::CONVERGE_SEEDS {
             bail!("--seeds and --json are for `converge growth` only");
@@ -498,6 +504,7 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
     if a.seeds < 3 || a.seeds > 10_000 {
         bail!("--seeds = {} is out of range: 3 to 10000", a.seeds);
     }
+    let t0 = Instant::now();
     let curves = converge::converge_growth(a.seeds)?;
     std::fs::create_dir_all(&a.out_dir)
         .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
@@ -517,7 +524,13 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         conv::wrote(p);
     }
     if a.json {
-        println!("{}", serde_json::to_string(&curves)?);
+        let v = conv::envelope(
+            "growth",
+            serde_json::json!({ "study": "converge", "seeds": a.seeds }),
+            t0.elapsed().as_secs_f64(),
+            serde_json::json!({ "curves": curves }),
+        )?;
+        println!("{}", serde_json::to_string(&v)?);
         return Ok(());
     }
     println!(
