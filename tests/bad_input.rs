@@ -1,0 +1,150 @@
+//! Bad input, everywhere: every option of every subcommand that takes a value is given values
+//! out of any range (`-1`, `nan`, `1e300`, `abc`). Each run must either be accepted (it exits 0,
+//! or is still running after a few seconds) or fail with exit status 1 (2 for a value the
+//! command line parser refuses) and a message whose
+//! first line names the option as typed, without a panic.
+//!
+//! The options are read from each subcommand's `--help`, so a new option is covered without
+//! editing this test.
+
+mod common;
+
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// How long an accepted run may go on before it is stopped (it was accepted).
+const ACCEPTED_AFTER: Duration = Duration::from_secs(4);
+
+/// Values out of any option's range.
+const BAD: [&str; 4] = ["-1", "nan", "1e300", "abc"];
+
+/// Each subcommand with small base options (so an accepted value runs briefly).
+fn subcommands() -> Vec<(&'static str, Vec<&'static str>)> {
+    vec![
+        ("flame", vec!["--size", "40x46", "--steps", "300"]),
+        ("grow", vec!["--size", "40x46", "--steps", "300"]),
+        ("dunes", vec!["--size", "16", "--steps", "5"]),
+        ("cursor", vec!["--size", "16", "--steps", "1000"]),
+        (
+            "wind-ripples",
+            vec!["--size", "16", "--steps", "2", "--particles", "1000"],
+        ),
+    ]
+}
+
+/// The long options that take a value, from `--help` (`--name <VALUE>`).
+fn value_options(sub: &str) -> Vec<String> {
+    let out = common::cellsurf(&[sub, "--help"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut v = Vec::new();
+    for line in text.lines() {
+        let t = line.trim_start();
+        let t = t.split_once(", ").map_or(t, |(a, b)| {
+            if a.starts_with('-') && !a.starts_with("--") {
+                b
+            } else {
+                t
+            }
+        });
+        if let Some(rest) = t.strip_prefix("--")
+            && let Some((name, tail)) = rest.split_once(' ')
+            && tail.starts_with('<')
+        {
+            v.push(format!("--{name}"));
+        }
+    }
+    v
+}
+
+/// Runs `cellsurf args`; `None` if it was still running after [`ACCEPTED_AFTER`] (stopped),
+/// else its exit code and stderr.
+fn try_run(args: &[&str], dir: &std::path::Path) -> Option<(Option<i32>, String)> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            let out = child.wait_with_output().unwrap();
+            return Some((
+                out.status.code(),
+                String::from_utf8_lossy(&out.stderr).to_string(),
+            ));
+        }
+        if t.elapsed() > ACCEPTED_AFTER {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn every_option_refuses_bad_values_by_name() {
+    let dir = common::tmp_in("bad_input", "work");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cases = Vec::new();
+    for (sub, base) in subcommands() {
+        let options = value_options(sub);
+        assert!(options.len() >= 5, "{sub}: options not found in --help");
+        for opt in options {
+            for bad in BAD {
+                cases.push((sub, base.clone(), opt.clone(), bad));
+            }
+        }
+    }
+    let queue = std::sync::Mutex::new(cases);
+    let failures = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(|| {
+                loop {
+                    let Some((sub, base, opt, bad)) = queue.lock().unwrap().pop() else {
+                        break;
+                    };
+                    // The option given replaces the base option of the same name.
+                    let mut args = vec![sub];
+                    let mut i = 0;
+                    while i < base.len() {
+                        if base[i] == opt {
+                            i += 2;
+                            continue;
+                        }
+                        args.push(base[i]);
+                        i += 1;
+                    }
+                    args.extend([opt.as_str(), bad]);
+                    let Some((code, err)) = try_run(&args, &dir) else {
+                        continue;
+                    };
+                    let first = err.lines().next().unwrap_or("");
+                    let ok = code == Some(0)
+                        || (matches!(code, Some(1) | Some(2))
+                            && !err.contains("panicked")
+                            && first.starts_with("error: ")
+                            && first.contains(opt.as_str()));
+                    if !ok {
+                        failures.lock().unwrap().push(format!(
+                            "`cellsurf {}`: exit {code:?}: {first}",
+                            args.join(" ")
+                        ));
+                    }
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().unwrap();
+    assert!(
+        failures.is_empty(),
+        "{} bad values not refused by name:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
