@@ -1,0 +1,171 @@
+//! The conventions every subcommand shares (docs/cli.md): the `--json` envelope, `--out` by
+//! extension with every file reported on stderr, `--quiet`, and `--print-scenario` /
+//! `--scenario` round trips.
+
+mod common;
+
+use common::{cellsurf, tmp_in};
+
+/// Each model's subcommand with small options and the output files it is asked for.
+fn cases() -> Vec<(
+    &'static str,
+    &'static str,
+    Vec<&'static str>,
+    Vec<&'static str>,
+)> {
+    vec![
+        (
+            "flame",
+            "growth",
+            vec!["--size", "40x46", "--start", "8", "--steps", "2000"],
+            vec!["f.png", "f.gif", "f.csv"],
+        ),
+        (
+            "dunes",
+            "dunes",
+            vec!["--size", "24", "--steps", "10", "-d"],
+            vec!["d.png", "d.gif"],
+        ),
+        (
+            "cursor",
+            "cursor",
+            vec![
+                "--size",
+                "24",
+                "--steps",
+                "20000",
+                "--wind-field",
+                "uniform",
+            ],
+            vec!["c.png"],
+        ),
+        (
+            "wind-ripples",
+            "wind-ripples",
+            vec!["--size", "16", "--steps", "4", "--particles", "4000"],
+            vec!["w.png", "w.npy"],
+        ),
+    ]
+}
+
+fn json(out: &std::process::Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+#[test]
+fn json_envelope_lists_every_output_and_stderr_reports_it() {
+    for (sub, model, args, files) in cases() {
+        let dir = tmp_in("conventions", sub);
+        std::fs::create_dir_all(&dir).unwrap();
+        let paths: Vec<String> = files
+            .iter()
+            .map(|f| dir.join(f).display().to_string())
+            .collect();
+        let mut a = vec![sub];
+        a.extend(&args);
+        for p in &paths {
+            a.extend(["--out", p.as_str()]);
+        }
+        a.push("--json");
+        let out = cellsurf(&a);
+        let v = json(&out);
+        let keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        assert_eq!(
+            keys[..5],
+            ["model", "version", "parameters", "elapsed_s", "outputs"],
+            "{sub}"
+        );
+        assert_eq!(v["model"], model, "{sub}");
+        assert_eq!(v["version"], env!("CARGO_PKG_VERSION"));
+        assert!(v["elapsed_s"].as_f64().unwrap() >= 0.0);
+        // Typed parameters: the seed is a number, not a string.
+        assert!(
+            v["parameters"]["seed"].is_u64(),
+            "{sub}: {}",
+            v["parameters"]
+        );
+        let outputs: Vec<&str> = v["outputs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_str().unwrap())
+            .collect();
+        let err = String::from_utf8_lossy(&out.stderr);
+        for p in &paths {
+            assert!(
+                outputs.contains(&p.as_str()),
+                "{sub}: {p} not in {outputs:?}"
+            );
+            assert!(err.contains(&format!("wrote {p}")), "{sub}: {err}");
+            assert!(std::path::Path::new(p).exists());
+        }
+        // --quiet: nothing on stderr.
+        a.push("--quiet");
+        let out = cellsurf(&a);
+        assert!(out.status.success());
+        assert!(
+            out.stderr.is_empty(),
+            "{sub}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn printed_scenario_reruns_the_same_run() {
+    for (sub, _, args, _) in cases() {
+        let dir = tmp_in("conventions-scenario", sub);
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut a = vec![sub];
+        a.extend(&args);
+        a.extend(["--seed", "5"]);
+        let mut p = a.clone();
+        p.push("--print-scenario");
+        let out = cellsurf(&p);
+        assert!(out.status.success(), "{sub}");
+        let file = dir.join("s.toml");
+        std::fs::write(&file, &out.stdout).unwrap();
+        let f = file.display().to_string();
+        let mut direct = a.clone();
+        direct.push("--json");
+        let from_file = [sub, "--scenario", f.as_str(), "--json"];
+        let (x, y) = (json(&cellsurf(&direct)), json(&cellsurf(&from_file)));
+        assert_eq!(x["parameters"], y["parameters"], "{sub}");
+        // The same run: every key but the timings agrees.
+        let strip = |v: &serde_json::Value| {
+            let mut o = v.as_object().unwrap().clone();
+            o.retain(|k, _| !k.ends_with("_s") && !k.ends_with("per_s") && !k.contains("rss"));
+            o
+        };
+        assert_eq!(strip(&x), strip(&y), "{sub}");
+        // An option typed on the command line wins over the file.
+        let over = json(&cellsurf(&[
+            sub,
+            "--scenario",
+            f.as_str(),
+            "--seed",
+            "6",
+            "--json",
+        ]));
+        assert_eq!(over["parameters"]["seed"], 6, "{sub}");
+    }
+}
+
+#[test]
+fn unknown_extension_and_wrong_scenario_model_are_refused_by_name() {
+    let out = cellsurf(&["dunes", "--size", "16", "--steps", "2", "--out", "x.nc"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(err.contains("--out x.nc") && err.contains(".png"), "{err}");
+    let f = tmp_in("conventions", "cursor.toml");
+    std::fs::write(&f, "model = \"cursor\"\n").unwrap();
+    let out = cellsurf(&["dunes", "--scenario", f.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(err.contains("'cursor' scenario, not 'dunes'"), "{err}");
+}
