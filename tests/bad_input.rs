@@ -29,6 +29,7 @@ fn subcommands() -> Vec<(&'static str, Vec<&'static str>)> {
             "wind-ripples",
             vec!["--size", "16", "--steps", "2", "--particles", "1000"],
         ),
+        ("raytrace", vec!["--length", "2", "--rays", "20"]),
     ]
 }
 

@@ -45,6 +45,12 @@ fn cases() -> Vec<(
             vec!["--size", "16", "--steps", "4", "--particles", "4000"],
             vec!["w.png", "w.npy"],
         ),
+        (
+            "raytrace",
+            "raytrace",
+            vec!["--length", "2", "--rays", "20"],
+            vec!["r.csv", "r.bty"],
+        ),
     ]
 }
 

@@ -109,14 +109,14 @@ fn json_summary_and_files() {
 fn bad_input_is_a_clear_error() {
     let out = tmp("never.csv");
     for (args, what) in [
-        (vec!["--source-depth", "13"], "source depth = 13"),
-        (vec!["--ds", "-1"], "ds = -1"),
+        (vec!["--source-depth", "13"], "--source-depth = 13"),
+        (vec!["--ds", "-1"], "--ds = -1"),
         (
             vec!["--angle-min", "10", "--angle-max", "5"],
-            "max angle = 5",
+            "--angle-max (max angle) = 5",
         ),
         (vec!["--profile", "table"], "--profile-table"),
-        (vec!["--water-depth", "0.001"], "water depth"),
+        (vec!["--water-depth", "0.001"], "--water-depth = 0.001"),
         (vec!["--opening", "20"], "--centre-angle"),
     ] {
         let mut a = vec!["raytrace", "--length", "2", "--out", out.to_str().unwrap()];
@@ -151,7 +151,7 @@ fn seafloor_from_a_ripple_file() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v = trace_over(&nc, &ins);
     assert!(
-        v["parameters"]["seafloor"]
+        v["run"]["seafloor"]
             .as_str()
             .unwrap()
             .contains("ripple file")
@@ -278,13 +278,13 @@ fn a_missing_output_directory_fails_before_any_file() {
         ok.to_str().unwrap(),
         "--rays-csv",
         rays.to_str().unwrap(),
-        "--bty",
+        "--out",
         "/nonexistent/x.bty",
     ]);
     assert!(!o.status.success());
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(
-        e.contains("--bty /nonexistent/x.bty") && e.contains("does not exist"),
+        e.contains("--out /nonexistent/x.bty") && e.contains("does not exist"),
         "{e}"
     );
     assert!(!ok.exists() && !rays.exists(), "no partial set of files");
@@ -315,7 +315,7 @@ fn seafloor_from_a_tile_mosaic() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v = trace_over(&nc, &ins);
     assert!(
-        v["parameters"]["seafloor"]
+        v["run"]["seafloor"]
             .as_str()
             .unwrap()
             .contains("tile mosaic")

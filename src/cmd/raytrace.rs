@@ -11,17 +11,21 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+
+use super::conv::{self, Format, Outputs};
 
 use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
 use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
     Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
-    Tracer, VERSION, insonify,
+    Tracer, insonify,
 };
 
 /// Sound-speed profile kinds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum ProfileKind {
     /// Constant --c0.
     Isovelocity,
@@ -36,21 +40,31 @@ pub enum ProfileKind {
 }
 
 /// Options of `cellsurf raytrace`. Negative numbers are read as values (upward angles).
-#[derive(clap::Args)]
-#[command(allow_negative_numbers = true)]
+#[derive(clap::Args, Serialize, Deserialize)]
+#[command(
+    allow_negative_numbers = true,
+    after_help = "Examples:\n  \
+        cellsurf raytrace --out lit.csv                  # generated ripples, 10 m source\n  \
+        cellsurf raytrace --profile munk --angle-min 2 --angle-max 20 --json\n  \
+        cellsurf raytrace --seafloor bed.nc --azimuth 30 --out lit.csv --out section.bty"
+)]
 pub struct Args {
+    /// Start from this scenario file (TOML, `model = "raytrace"`); options typed here override
+    /// it.
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
     /// Depth of the transducer S, m.
     #[arg(long, default_value_t = 10.0)]
     source_depth: f64,
     /// Range of S along the section, m.
     #[arg(long, default_value_t = 0.0)]
     source_range: f64,
-    /// Smallest launch angle, degrees below the horizontal (negative: upward) [default 1.5].
-    #[arg(long)]
-    angle_min: Option<f64>,
-    /// Largest launch angle, degrees below the horizontal [default 25].
-    #[arg(long)]
-    angle_max: Option<f64>,
+    /// Smallest launch angle, degrees below the horizontal (negative: upward), -90 to 90.
+    #[arg(long, default_value_t = 1.5)]
+    angle_min: f64,
+    /// Largest launch angle, degrees below the horizontal, -90 to 90.
+    #[arg(long, default_value_t = 25.0)]
+    angle_max: f64,
     /// Opening angle of the sonar, degrees (with --centre-angle, instead of the two limits).
     #[arg(long)]
     opening: Option<f64>,
@@ -120,24 +134,29 @@ pub struct Args {
     /// of S whose direction from S lies within the fan of launch angles.
     #[arg(long)]
     straight: bool,
-    /// Insonification CSV: one row a floor vertex (lit, grazing angle, travel time, R0).
-    #[arg(long, value_name = "FILE.csv")]
-    out: Option<PathBuf>,
+    /// Output file, repeatable; the extension picks the format: .csv (insonification, one row
+    /// a floor vertex: lit, grazing angle, travel time, R0), .bty (BELLHOP bathymetry of the
+    /// section).
+    #[arg(long, value_name = "FILE")]
+    out: Vec<PathBuf>,
     /// Ray paths of the initial fan as CSV (through floor reflections, up to --max-bounces).
     #[arg(long, value_name = "FILE.csv")]
     rays_csv: Option<PathBuf>,
-    /// BELLHOP bathymetry file of the section.
-    #[arg(long, value_name = "FILE.bty")]
+    /// Old spelling of `--out FILE.bty` (kept for one release).
+    #[arg(long, value_name = "FILE.bty", hide = true)]
     bty: Option<PathBuf>,
     /// The section as CSV (x, depth, impedance), readable by --seafloor-csv.
     #[arg(long, value_name = "FILE.csv")]
     seafloor_csv_out: Option<PathBuf>,
-    /// Print one JSON summary on stdout.
+    /// Print one JSON object with the run's summary on stdout.
     #[arg(long)]
     json: bool,
-    /// No summary on stderr.
+    /// No chatter on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Print the run's scenario file (TOML) and exit.
+    #[arg(long)]
+    print_scenario: bool,
 }
 
 fn read(path: &Path, what: &str) -> Result<String> {
@@ -205,37 +224,38 @@ fn floor(a: &Args) -> Result<(Seafloor, &'static str)> {
 }
 
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
-    match (a.opening, a.centre_angle, a.angle_min, a.angle_max) {
-        (Some(o), Some(c), None, None) => {
+    let limits = conv::typed("angle_min") || conv::typed("angle_max");
+    match (a.opening, a.centre_angle) {
+        (Some(_), Some(_)) if limits => {
+            bail!("give either --opening with --centre-angle, or --angle-min/--angle-max")
+        }
+        (Some(o), Some(c)) => {
             if !(o.is_finite() && (0.0..=180.0).contains(&o)) {
                 bail!("opening = {o} is out of range: expected degrees in [0, 180]");
             }
             Ok((c - o / 2.0, c + o / 2.0))
         }
-        (None, None, lo, hi) => Ok((lo.unwrap_or(1.5), hi.unwrap_or(25.0))),
-        (Some(_), None, ..) | (None, Some(_), ..) => {
-            bail!("--opening and --centre-angle go together")
-        }
-        _ => bail!("give either --opening with --centre-angle, or --angle-min/--angle-max"),
+        (None, None) => Ok((a.angle_min, a.angle_max)),
+        _ => bail!("--opening and --centre-angle go together"),
     }
 }
 
 /// The output options given, as (option, path).
-fn outputs(a: &Args) -> Vec<(&'static str, &Path)> {
+fn outputs<'a>(a: &'a Args, outs: &'a Outputs) -> Vec<(&'static str, &'a Path)> {
     [
-        ("--out", &a.out),
-        ("--rays-csv", &a.rays_csv),
-        ("--bty", &a.bty),
-        ("--seafloor-csv-out", &a.seafloor_csv_out),
+        ("--out", outs.get(Format::Csv)),
+        ("--rays-csv", a.rays_csv.as_deref()),
+        ("--out", outs.get(Format::Bty)),
+        ("--seafloor-csv-out", a.seafloor_csv_out.as_deref()),
     ]
     .into_iter()
-    .filter_map(|(o, p)| p.as_deref().map(|p| (o, p)))
+    .filter_map(|(o, p)| p.map(|p| (o, p)))
     .collect()
 }
 
 /// Before any work: every output's directory exists, and no two outputs are the same file.
-fn check_outputs(a: &Args) -> Result<()> {
-    let outs = outputs(a);
+fn check_outputs(a: &Args, outs: &Outputs) -> Result<()> {
+    let outs = outputs(a, outs);
     for (i, &(opt, p)) in outs.iter().enumerate() {
         if p.file_name().is_none() || p.is_dir() {
             bail!("{opt} {}: not a file name", p.display());
@@ -259,8 +279,23 @@ fn check_outputs(a: &Args) -> Result<()> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
+    conv::synonyms(&[
+        ("max angle", "angle_max"),
+        ("min angle", "angle_min"),
+        ("section azimuth", "azimuth"),
+        ("section length", "length"),
+    ]);
+    conv::set_quiet(a.quiet);
+    let scenario = a.scenario.clone();
+    let a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
+    if a.print_scenario {
+        print!("{}", conv::scenario_text(&a, "raytrace")?);
+        return Ok(());
+    }
+    let mut outs = Outputs::new(&a.out, "raytrace", &[Format::Csv, Format::Bty])?;
+    outs.add_legacy(Format::Bty, a.bty.as_ref())?;
     let start = Instant::now();
-    check_outputs(&a)?;
+    check_outputs(&a, &outs)?;
     let prof = profile(&a)?;
     let (fl, kind) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
@@ -335,8 +370,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     // every output is produced before any is written: an error leaves no partial set
     let mut files: Vec<(PathBuf, String)> = Vec::new();
-    if let Some(p) = &a.out {
-        files.push((p.clone(), insonification_csv(&fl, &prof, &ins, &params)));
+    if let Some(p) = outs.get(Format::Csv) {
+        files.push((
+            p.to_path_buf(),
+            insonification_csv(&fl, &prof, &ins, &params),
+        ));
     }
     if let Some(p) = &a.rays_csv {
         let show = TraceOptions {
@@ -358,23 +396,21 @@ pub fn run(a: Args) -> Result<()> {
             .collect::<Result<Vec<_>, _>>()?;
         files.push((p.clone(), rays_csv(&rays, &params)));
     }
-    if let Some(p) = &a.bty {
-        files.push((p.clone(), bty_text(&fl, &params)));
+    if let Some(p) = outs.get(Format::Bty) {
+        files.push((p.to_path_buf(), bty_text(&fl, &params)));
     }
     if let Some(p) = &a.seafloor_csv_out {
         files.push((p.clone(), floor_csv(&fl, &params)));
     }
-    let mut written = Vec::new();
     for (p, text) in &files {
         cellsurf::engine::io::write_atomic(p, text.as_bytes())
             .with_context(|| format!("writing {}", p.display()))?;
-        written.push(p.clone());
+        conv::wrote(p);
     }
     let elapsed = start.elapsed().as_secs_f64();
     let lit = ins.insonified_fraction();
     if a.json {
-        let v = serde_json::json!({
-            "version": VERSION,
+        let own = serde_json::json!({
             "profile": prof.name(),
             "vertices": fl.len(),
             "rays": ins.rays,
@@ -384,16 +420,17 @@ pub fn run(a: Args) -> Result<()> {
             "insonified_fraction": lit,
             "shadowed_fraction": 1.0 - lit,
             "max_snell_drift": ins.max_snell_drift,
-            "elapsed_s": elapsed,
-            "parameters": params
-                .iter()
-                .map(|(k, v)| (k.clone(), serde_json::Value::String(v.clone())))
-                .collect::<serde_json::Map<String, serde_json::Value>>(),
-            "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            "run": {
+                "angles_deg": [amin, amax],
+                "max_path_m": max_path,
+                "seafloor": params.iter().find(|(k, _)| k == "seafloor").map(|(_, v)| v),
+                "profile": prof.describe(),
+            },
         });
+        let v = conv::envelope("raytrace", conv::scenario_table(&a)?, elapsed, own)?;
         println!("{}", serde_json::to_string(&v)?);
-    } else if !a.quiet {
-        eprintln!(
+    } else {
+        println!(
             "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} %, shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
             fl.len(),
             ins.rays,
@@ -407,9 +444,6 @@ pub fn run(a: Args) -> Result<()> {
             (1.0 - lit) * 100.0,
             ins.max_snell_drift
         );
-        for w in &written {
-            eprintln!("wrote {}", w.display());
-        }
     }
     Ok(())
 }
