@@ -100,49 +100,49 @@ pub struct Args {
         allow_negative_numbers = true
     )]
     wind_scale: f64,
-    /// Built-in wind field (default calm when no --wind is given).
+    /// Built-in wind field [default: calm, unless --wind-image is given].
     #[arg(long, value_name = "NAME", value_enum)]
     wind_field: Option<Generator>,
     /// Generator: direction the wind (uniform, bimodal bands, converging drift) blows toward,
-    /// or of one star arm (rotating), degrees counter-clockwise from +x. Default 30 (uniform),
-    /// 60 (bimodal), 0 (converging, rotating).
+    /// or of one star arm (rotating), degrees counter-clockwise from +x [default: 30 (uniform),
+    /// 60 (bimodal), 0 (converging, rotating)].
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     wind_angle: Option<f64>,
-    /// Generator: wind speed, article units 0 to 220 (the drift for converging). Default 220
-    /// (uniform, bimodal), 50 (converging), 60 (rotating).
+    /// Generator: wind speed, article units 0 to 220 (the drift for converging) [default: 220
+    /// (uniform, bimodal), 50 (converging), 60 (rotating)].
     #[arg(long, value_name = "SPEED", allow_negative_numbers = true)]
     wind_speed: Option<f64>,
-    /// Bimodal: angle between the two winds, degrees, 0 to 180 (180 = exactly opposite).
-    /// Default 150.
+    /// Bimodal: angle between the two winds, degrees, 0 to 180 (180 = exactly opposite)
+    /// [default: 150].
     #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     wind_spread: Option<f64>,
     /// Bimodal: distance between ridges; converging: between centres along x; rotating:
-    /// between nodes. Cells, at least 4. Default 40 (bimodal), 80 (converging), 60 (rotating).
+    /// between nodes. Cells, at least 4 [default: 40 (bimodal), 80 (converging), 60 (rotating)].
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
     wind_wavelength: Option<f64>,
-    /// Converging: distance between centres along y, cells, at least 4. Default 120.
+    /// Converging: distance between centres along y, cells, at least 4 [default: 120].
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
     wind_spacing: Option<f64>,
     /// Converging: largest radial wind around each centre, article units (> 0 outward,
-    /// < 0 inward; speed + |radial| at most 220). Default 160.
+    /// < 0 inward; speed + |radial| at most 220) [default: 160].
     #[arg(long, value_name = "SPEED", allow_negative_numbers = true)]
     wind_radial: Option<f64>,
     /// Converging: radius of the radial wind, cells (1 to half the smaller distance between
-    /// centres). Default 25.
+    /// centres) [default: 25].
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
     wind_radius: Option<f64>,
-    /// Rotating: arms of each star, 0 to 12 (0: round mounds). Default 4.
+    /// Rotating: arms of each star, 0 to 12 (0: round mounds) [default: 4].
     #[arg(long, value_name = "N")]
     wind_arms: Option<u32>,
-    /// Grid size in cells, W or WxH, each side 3 or more. Default 240x240 (the article does
-    /// not give its grid), or the wind image's size.
+    /// Grid size in cells, W or WxH, each side 3 or more [default: 240x240 (the article
+    /// does not give its grid), or the wind image's size].
     #[arg(long, value_name = "W[xH]")]
     size: Option<Size>,
     /// Seed of the random stream (the same seed gives the same output).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Sea level for --out, in visits: cells lower than this are drawn as water. Default:
-    /// half the mean height (100 for the article's steps on 240x240 cells).
+    /// Sea level for --out, in visits: cells lower than this are drawn as water
+    /// [default: half the mean height, 100 for the article's steps on 240x240 cells].
     #[arg(
         long,
         value_name = "HEIGHT",
@@ -150,7 +150,7 @@ pub struct Args {
         conflicts_with_all = ["sea_fraction", "sea_quantile"]
     )]
     sea_level: Option<f64>,
-    /// Sea level as a fraction of the mean height (default 0.5).
+    /// Sea level as a fraction of the mean height [default: 0.5 when no other sea level is given].
     #[arg(
         long,
         value_name = "F",
