@@ -30,6 +30,20 @@ fn subcommands() -> Vec<(&'static str, Vec<&'static str>)> {
             vec!["--size", "16", "--steps", "2", "--particles", "1000"],
         ),
         ("raytrace", vec!["--length", "2", "--rays", "20"]),
+        (
+            "tile",
+            vec![
+                "--generate",
+                "--size",
+                "24x12",
+                "--layers",
+                "10",
+                "--steps",
+                "20",
+                "--mosaic",
+                "2x2",
+            ],
+        ),
     ]
 }
 

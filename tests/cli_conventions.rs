@@ -51,6 +51,22 @@ fn cases() -> Vec<(
             vec!["--length", "2", "--rays", "20"],
             vec!["r.csv", "r.bty"],
         ),
+        (
+            "tile",
+            "tile",
+            vec![
+                "--generate",
+                "--size",
+                "24x12",
+                "--layers",
+                "10",
+                "--steps",
+                "20",
+                "--mosaic",
+                "2x2",
+            ],
+            vec!["t.npy"],
+        ),
     ]
 }
 

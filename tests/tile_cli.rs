@@ -127,7 +127,7 @@ fn bad_input_is_named() {
         ),
         (
             &["--dunes", "--dune-grid", "100000"][..],
-            "dune_grid = 100000 is out of range: expected 2 ..= 72 nodes",
+            "--dune-grid = 100000 is out of range: expected 2 ..= 72 nodes",
         ),
         (&["--hurst", "0.5"][..], "--dunes"),
         (&["--dune-rms", "0.1"][..], "--dunes"),

@@ -249,6 +249,34 @@ impl<'de> serde::Deserialize<'de> for Size {
     }
 }
 
+/// Serde for an optional value written as its name (`FromStr` and `Display`), for option
+/// types that are not serde types themselves: `#[serde(with = "conv::opt_name")]`.
+pub mod opt_name {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<T: std::fmt::Display, S: Serializer>(
+        v: &Option<T>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        match v {
+            Some(v) => s.serialize_str(&v.to_string()),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, T, D>(d: D) -> Result<Option<T>, D::Error>
+    where
+        T: std::str::FromStr,
+        T::Err: std::fmt::Display,
+        D: Deserializer<'de>,
+    {
+        match Option::<String>::deserialize(d)? {
+            Some(s) => s.parse().map(Some).map_err(serde::de::Error::custom),
+            None => Ok(None),
+        }
+    }
+}
+
 /// The output formats, picked by the extension of `--out`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -456,7 +484,9 @@ fn known_option(id: &str) -> bool {
 /// parameter name (`until_occupied = 2 is out of range ...`) becomes the flag as the user
 /// typed it (`--until-occupied = 2 ...`) when that option was given on the command line.
 pub fn render_error(e: &anyhow::Error) -> String {
-    let parts: Vec<String> = e.chain().map(|c| c.to_string()).collect();
+    let mut parts: Vec<String> = e.chain().map(|c| c.to_string()).collect();
+    // A typed error that prints its source as part of its own message: say it once.
+    parts.dedup_by(|later, earlier| earlier.ends_with(later.as_str()));
     let n = parts.len();
     parts
         .into_iter()

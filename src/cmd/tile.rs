@@ -9,10 +9,12 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
+use cellsurf::ripple::RippleParams;
 use cellsurf::ripple::output::{Field, toml_pairs};
-use cellsurf::ripple::{RippleParams, VERSION};
+
+use super::conv::{self, Format, Outputs, Size};
 use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
@@ -22,35 +24,49 @@ use cellsurf::tile::{
 };
 
 /// Options of `cellsurf tile`.
-#[derive(clap::Args)]
-#[command(allow_negative_numbers = true)]
+#[derive(clap::Args, Serialize, Deserialize)]
+#[command(
+    allow_negative_numbers = true,
+    after_help = "Examples:\n  \
+        cellsurf tile --generate --size 64x32 --mosaic 8x8 --out mosaic.nc\n  \
+        cellsurf tile --tile bed.nc --extent 20x20 --dunes --out dunes.npy --json\n  \
+        cellsurf tile --generate --size 100x100 --bin-size 0.01 --extent 1000x1000 --dry-run --out km.nc"
+)]
 pub struct Args {
+    /// Start from this scenario file (TOML, `model = "tile"`); options typed here override it.
+    #[arg(long, value_name = "FILE.toml")]
+    scenario: Option<PathBuf>,
     /// A ripple NetCDF file (from `cellsurf ripple`) whose snapshots are tiles; repeatable.
     #[arg(long, value_name = "FILE.nc")]
     tile: Vec<PathBuf>,
     /// Generate tiles in-process with the ripple model (one run per --seeds entry).
     #[arg(long)]
     generate: bool,
-    /// Ripple scene (TOML) for --generate [default: the ripple defaults].
+    /// --generate: the ripple scenario (TOML, as `cellsurf ripple --print-scenario` writes)
+    /// [default: the ripple defaults].
     #[arg(long, value_name = "FILE.toml")]
-    scenario: Option<PathBuf>,
-    /// --generate: columns along x of a tile [default: the scene's, else 128].
-    #[arg(long)]
+    ripple_scenario: Option<PathBuf>,
+    /// --generate: tile size in columns, NXxNY [default: the ripple scenario's, else 128x64].
+    #[arg(long, value_name = "NXxNY")]
+    size: Option<Size>,
+    /// Old spelling of the x part of --size (kept for one release).
+    #[arg(long, hide = true)]
     nx: Option<usize>,
-    /// --generate: columns along y of a tile [default: the scene's, else 64].
-    #[arg(long)]
+    /// Old spelling of the y part of --size (kept for one release).
+    #[arg(long, hide = true)]
     ny: Option<usize>,
-    /// --generate: mean sand thickness, automata per column [default: the scene's, else 30].
+    /// --generate: mean sand thickness, automata per column [default: the scenario's, else 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// --generate: steps of each run, raised to the largest --snapshots step [default: the
-    /// scene's, else 10000].
-    #[arg(long)]
+    /// --generate: steps of each run, raised to the largest --snapshots step (`1e4` accepted)
+    /// [default: the scenario's, else 10000].
+    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
     steps: Option<u64>,
-    /// --generate: fraction of automata triggered per step [default: the scene's, else 0.001].
+    /// --generate: fraction of automata triggered per step [default: the scenario's, else
+    /// 0.001].
     #[arg(long)]
     activity: Option<f64>,
-    /// --generate: bin size, m [default: the scene's, else 0.005].
+    /// --generate: bin size, m [default: the scenario's, else 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
@@ -59,7 +75,7 @@ pub struct Args {
     /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
     #[arg(long, value_delimiter = ',')]
     snapshots: Option<Vec<u64>>,
-    /// Tiles along x and y, MXxMY [default 3x3].
+    /// Tiles along x and y, MXxMY; instead of --extent [default: 3x3].
     #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
     mosaic: Option<String>,
     /// Surface size in metres, WxH (rounded up to whole tiles); instead of --mosaic.
@@ -74,21 +90,22 @@ pub struct Args {
     /// Volume field to write beneath the surface (grain_size, porosity, density, sound_speed,
     /// impedance).
     #[arg(long)]
+    #[serde(with = "conv::opt_name", default)]
     volume: Option<Field>,
     /// Ripples riding on fractal dunes.
     #[arg(long)]
     dunes: bool,
     /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
-    #[arg(long, default_value_t = 0.6, requires = "dunes")]
+    #[arg(long, default_value_t = 0.6)]
     hurst: f64,
     /// --dunes: rms dune height, m [default: the height that gives the dune field an rms slope
     /// of 6 deg at its grid, so it scales with the extent (e.g. 47 mm on 20 x 20 m with the
     /// default grid, H 0.6); its largest slope is then about 20 deg, below the angle of repose, 32 deg].
     /// The slopes are measured and reported; steeper dunes than 32 deg get a warning.
-    #[arg(long, requires = "dunes")]
+    #[arg(long)]
     dune_rms: Option<f64>,
     /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
-    #[arg(long, requires = "dunes")]
+    #[arg(long)]
     dune_wavelength: Option<f64>,
     /// Current direction, degrees from +x, for --dunes (the ripple pattern is turned to it) and
     /// for the --generate runs [default: the tiles' current]; with neither it is an error.
@@ -96,32 +113,35 @@ pub struct Args {
     current_angle: Option<f64>,
     /// --dunes: steering of the current by the dune slope, dimensionless: u = e - steering grad D,
     /// e the unit vector of --current-angle and grad D the dune slope in m/m.
-    #[arg(long, default_value_t = 3.0, requires = "dunes")]
+    #[arg(long, default_value_t = 3.0)]
     steering: f64,
     /// --dunes: dune-grid nodes per side, 2 ..= the surface's bins along its longer side (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
-    #[arg(long, requires = "dunes")]
+    #[arg(long)]
     dune_grid: Option<usize>,
-    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar). Without
-    /// --out nothing is written: the rows are computed and only the seams and slopes measured
-    /// (--dry-run still prints the disk space the --format would take).
+    /// Output file; the extension picks the format: .nc (NetCDF-3) or .npy (NAME.npy the
+    /// elevation, NAME_FIELD.npy the volume, NAME.json the parameters). Without --out nothing
+    /// is written: the rows are computed and only the seams and slopes measured.
     #[arg(long, value_name = "FILE")]
-    out: Option<PathBuf>,
-    /// Output format: netcdf or npy.
-    #[arg(long, default_value = "netcdf")]
-    format: String,
+    out: Vec<PathBuf>,
+    /// Old spelling: netcdf or npy, with --out a file stem (kept for one release).
+    #[arg(long, hide = true)]
+    format: Option<String>,
     /// Seed of the patch choice and the dune synthesis (and of --generate without --seeds).
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Print the size and the disk space needed, then stop.
     #[arg(long)]
     dry_run: bool,
-    /// Print one JSON summary on stdout (no progress bar).
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Print the run's scenario file (TOML) and exit.
+    #[arg(long)]
+    print_scenario: bool,
 }
 
 /// The parameters recorded in the output.
@@ -155,15 +175,23 @@ fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Resul
 }
 
 fn ripple_params(a: &Args) -> Result<RippleParams> {
-    let mut p = match &a.scenario {
+    let mut p = match &a.ripple_scenario {
         Some(path) => {
             let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            toml::from_str(&text)
-                .map_err(|e| anyhow::anyhow!("scene file {}: {e}", path.display()))?
+                .with_context(|| format!("reading --ripple-scenario {}", path.display()))?;
+            let mut t: toml::Table = text
+                .parse()
+                .with_context(|| format!("--ripple-scenario {} is not TOML", path.display()))?;
+            t.remove("model");
+            toml::Value::Table(t)
+                .try_into()
+                .with_context(|| format!("in --ripple-scenario {}", path.display()))?
         }
         None => RippleParams::default(),
     };
+    if let Some(s) = a.size {
+        (p.nx, p.ny) = (s.w, s.h);
+    }
     macro_rules! set {
         ($($f:ident),+) => { $(if let Some(v) = a.$f { p.$f = v; })+ };
     }
@@ -178,7 +206,10 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
 fn pool(a: &Args, quiet: bool) -> Result<Vec<Tile>> {
     let mut tiles = Vec::new();
     for f in &a.tile {
-        tiles.extend(tiles_from_file(f, a.snapshots.as_deref(), a.volume)?);
+        tiles.extend(
+            tiles_from_file(f, a.snapshots.as_deref(), a.volume)
+                .with_context(|| format!("--tile {}", f.display()))?,
+        );
     }
     if a.generate {
         let p = ripple_params(a)?;
@@ -250,12 +281,76 @@ fn seam_json(s: &SeamStats) -> serde_json::Value {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
+    conv::synonyms(&[("nx", "size"), ("ny", "size")]);
+    conv::set_quiet(a.quiet);
+    let mut a = a;
+    // Old meaning (one release): a --scenario without `model` is the ripple scenario.
+    if let Some(p) = a.scenario.clone()
+        && std::fs::read_to_string(&p)
+            .ok()
+            .and_then(|t| t.parse::<toml::Table>().ok())
+            .is_some_and(|t| !t.contains_key("model"))
+    {
+        conv::note(format_args!(
+            "note: --scenario {} has no `model = \"tile\"`: read as the ripple scenario of \
+             --generate (old meaning; use --ripple-scenario)",
+            p.display()
+        ));
+        a.ripple_scenario = Some(p);
+        a.scenario = None;
+    }
+    let scenario = a.scenario.clone();
+    let a = conv::merge_scenario(a, scenario.as_deref(), "tile")?;
+    if a.print_scenario {
+        print!("{}", conv::scenario_text(&a, "tile")?);
+        return Ok(());
+    }
     let start = Instant::now();
     let quiet = a.quiet || a.json;
     let choose: Choose = a.choose.parse()?;
-    let format: StreamFormat = a.format.parse()?;
-    if let Some(out) = &a.out {
+    let outs = match &a.format {
+        None => Outputs::new(&a.out, "tile", &[Format::Nc, Format::Npy])?,
+        Some(f) => {
+            // Old spelling (one release): `--format npy --out STEM`, the extension replaced.
+            let fmt = match f.as_str() {
+                "npy" => Format::Npy,
+                "netcdf" | "nc" => Format::Nc,
+                _ => bail!("--format = {f} is out of range: expected netcdf or npy"),
+            };
+            let mut o = Outputs::default();
+            let path = a.out.first().map(|p| p.with_extension(fmt.ext()));
+            o.add_legacy(fmt, path.as_ref())?;
+            o
+        }
+    };
+    let out: Option<PathBuf> = outs
+        .get(Format::Nc)
+        .or(outs.get(Format::Npy))
+        .map(|p| p.to_path_buf());
+    if outs.get(Format::Nc).is_some() && outs.get(Format::Npy).is_some() {
+        bail!("--out: one mosaic file per run (.nc or .npy)");
+    }
+    let format = if outs.get(Format::Npy).is_some() {
+        StreamFormat::Npy
+    } else {
+        StreamFormat::NetCdf
+    };
+    if let Some(out) = &out {
         cellsurf::engine::io::check_output("--out", out)?;
+    }
+    if !a.dunes {
+        for id in [
+            "hurst",
+            "dune_rms",
+            "dune_wavelength",
+            "steering",
+            "dune_grid",
+        ] {
+            if conv::typed(id) {
+                let flag = conv::typed_flag(id).unwrap_or_default();
+                bail!("{flag} applies to rippled dunes only: add --dunes");
+            }
+        }
     }
     if a.dunes && a.volume.is_some() {
         bail!(
@@ -372,7 +467,7 @@ pub fn run(a: Args) -> Result<()> {
         h as f64 * dx,
     );
     if !quiet {
-        match &a.out {
+        match &out {
             Some(out) => eprintln!(
                 "tile: {size_line}; writing about {} to {}",
                 human(estimate),
@@ -381,7 +476,11 @@ pub fn run(a: Args) -> Result<()> {
             None if a.dry_run => eprintln!(
                 "tile: {size_line}; would take about {} as {} (no --out given)",
                 human(estimate),
-                a.format
+                if format == StreamFormat::Npy {
+                    "npy"
+                } else {
+                    "netcdf"
+                }
             ),
             None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
         }
@@ -405,9 +504,8 @@ pub fn run(a: Args) -> Result<()> {
             dune_params.rms
         );
     }
-    let summary = |seams: Option<&SeamStats>, bytes: u64, files: &[PathBuf], elapsed: f64| {
+    let summary = |seams: Option<&SeamStats>, bytes: u64, elapsed: f64| {
         serde_json::json!({
-            "cellsurf_version": VERSION,
             "width": w,
             "height": h,
             "levels": if a.volume.is_some() { src.levels() } else { 0 },
@@ -420,8 +518,7 @@ pub fn run(a: Args) -> Result<()> {
             "blend": a.blend,
             "estimated_bytes": estimate,
             "bytes": bytes,
-            "files": files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-            "elapsed_s": elapsed,
+            "stream_s": elapsed,
             "rows_per_s": if elapsed > 0.0 && seams.is_some() { h as f64 / elapsed } else { 0.0 },
             "mb_per_s": if elapsed > 0.0 { bytes as f64 / 1e6 / elapsed } else { 0.0 },
             "seams": seams.map(seam_json),
@@ -445,20 +542,29 @@ pub fn run(a: Args) -> Result<()> {
             })),
         })
     };
+    let envelope = |own: serde_json::Value| -> Result<String> {
+        let mut own = own;
+        own["recorded"] = serde_json::to_value(&recorded)?;
+        let v = conv::envelope(
+            "tile",
+            conv::scenario_table(&a)?,
+            start.elapsed().as_secs_f64(),
+            own,
+        )?;
+        Ok(serde_json::to_string(&v)?)
+    };
     if a.dry_run {
         if a.json {
-            println!("{}", serde_json::to_string(&summary(None, 0, &[], 0.0))?);
+            println!("{}", envelope(summary(None, 0, 0.0))?);
         } else {
-            eprintln!("dry run: nothing written");
-        }
-        if a.quiet && !a.json {
+            conv::note("dry run: nothing written");
             println!("{estimate}");
         }
         return Ok(());
     }
     let bar = bar(h as u64, "tile rows", quiet);
     let t0 = Instant::now();
-    let (seams, bytes, files) = match &a.out {
+    let (seams, bytes, files) = match &out {
         Some(out) => {
             let rep = write_stream(out, src, &spec, |d| bar.set_position(d as u64))?;
             (rep.seams, rep.bytes, rep.files)
@@ -479,14 +585,15 @@ pub fn run(a: Args) -> Result<()> {
     };
     bar.finish_and_clear();
     let elapsed = t0.elapsed().as_secs_f64();
+    for p in &files {
+        conv::wrote(p);
+    }
     if a.json {
-        let mut v = summary(Some(&seams), bytes, &files, elapsed);
-        v["total_s"] = serde_json::json!(start.elapsed().as_secs_f64());
-        println!("{}", serde_json::to_string(&v)?);
-    } else if !a.quiet {
+        println!("{}", envelope(summary(Some(&seams), bytes, elapsed))?);
+    } else {
         let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}", x * 1e3));
         let r = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.2}"));
-        eprintln!(
+        println!(
             "seams (mean |jump|, mm): x inside {} across {} (ratio {}), y inside {} across {} (ratio {})",
             f(seams.x.inside),
             f(seams.x.across),
@@ -496,7 +603,7 @@ pub fn run(a: Args) -> Result<()> {
             r(seams.y.ratio())
         );
         if let Some(s) = seams.slope {
-            eprintln!(
+            println!(
                 "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
                 s.max_deg,
                 s.rms_deg,
@@ -504,7 +611,7 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
         if let Some(s) = dune_slopes {
-            eprintln!(
+            println!(
                 "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
                 s.max_deg,
                 s.rms_deg,
@@ -512,15 +619,12 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
         if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
-            eprintln!(
+            println!(
                 "dune spectrum slope {s:.2} (requested {:.2})",
                 -(2.0 * hurst + 2.0)
             );
         }
-        for p in &files {
-            eprintln!("wrote {}", p.display());
-        }
-        eprintln!(
+        println!(
             "{} in {elapsed:.2} s ({:.0} rows/s, {:.1} MB/s)",
             human(bytes),
             h as f64 / elapsed.max(1e-9),

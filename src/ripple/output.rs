@@ -79,6 +79,12 @@ impl Field {
     }
 }
 
+impl std::fmt::Display for Field {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 impl FromStr for Field {
     type Err = RippleError;
     fn from_str(s: &str) -> Result<Self, RippleError> {
