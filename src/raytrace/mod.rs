@@ -25,6 +25,23 @@
 //!
 //! Every run is bounded: at most `2 max_path / ds + 64 (max_bounces + 1) + 16` steps per ray, at most
 //! `max_bounces` reflections, and a ray budget for the insonification search.
+//!
+//! ```
+//! use cellsurf::raytrace::{RayEnd, Seafloor, SoundSpeed, TraceOptions, Tracer};
+//!
+//! // A flat floor at 12 m in isovelocity water; a ray from 10 m depth launched 10 degrees
+//! // downward travels in a straight line and meets the floor 2 / tan(10 deg) = 11.34 m away.
+//! let floor = Seafloor::flat(0.0, 100.0, 12.0).unwrap();
+//! let c = SoundSpeed::Isovelocity(1500.0);
+//! let tracer = Tracer::new(&c, &floor).unwrap();
+//! let o = TraceOptions { ds: 0.1, max_path: 200.0, max_bounces: 4, stop_at_bottom: true, record: false };
+//! let ray = tracer.trace(0.0, 10.0, 10.0, &o).unwrap();
+//! assert_eq!(ray.end, RayEnd::Floor);
+//! let hit = ray.first_floor_hit().unwrap();
+//! assert!((hit.x - 2.0 / 10f64.to_radians().tan()).abs() < 1e-6);
+//! // Snell's invariant cos(theta)/c is kept to rounding in uniform water.
+//! assert!(ray.max_snell_drift < 1e-12);
+//! ```
 
 pub mod export;
 #[cfg(feature = "plot")]

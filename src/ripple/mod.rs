@@ -20,6 +20,21 @@
 //! Automata are moved, never created or destroyed: the number of automata and the mass of
 //! every grain-size class are conserved exactly ([`Ripple::mass_change`]). After every step no
 //! slope between Moore neighbours exceeds the avalanche angle ([`Ripple::steep_pair`]).
+//!
+//! ```
+//! use cellsurf::ripple::{Ripple, RippleParams};
+//!
+//! // A small 3-D run: 24 x 12 columns of 10 automata, 200 steps of the current.
+//! let p = RippleParams { nx: 24, ny: 12, layers: 10, steps: 200, ..RippleParams::default() };
+//! let mut r = Ripple::new(&p).unwrap();
+//! let automata = r.automata();
+//! r.run(p.steps, |_| {});
+//! // Automata move but are never created or destroyed, and no slope exceeds the avalanche
+//! // angle after a step.
+//! assert_eq!(r.automata(), automata);
+//! assert_eq!(r.mass_change(), 0);
+//! assert!(r.steep_pair().is_none());
+//! ```
 
 pub mod acoustics;
 pub mod compaction;

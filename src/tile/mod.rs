@@ -25,6 +25,24 @@
 //!   independent of the number of rows.
 //! - `figures` (feature `plot`): `ripple_fig6_tiles` and `ripple_fig9_fractal_dunes`, listed in
 //!   [`FIGURES`].
+//!
+//! ```
+//! use cellsurf::ripple::RippleParams;
+//! use cellsurf::tile::{Choose, Mosaic, tileset::tiles_from_run};
+//!
+//! // One small ripple run gives one toroidal tile; a 3 x 2 mosaic of it.
+//! let p = RippleParams { nx: 24, ny: 12, layers: 10, steps: 20, ..RippleParams::default() };
+//! let tiles = tiles_from_run(&p, &[1], &[20], None, |_| {}).unwrap();
+//! let m = Mosaic::new(tiles, 3, 2, Choose::Same, 1, 0).unwrap();
+//! assert_eq!(m.size(), (72, 24));
+//! // The tile is a torus: the mosaic repeats it exactly, with no seam.
+//! for y in 0..24 {
+//!     for x in 0..24 {
+//!         assert_eq!(m.value(x, y), m.value(x + 24, y));
+//!         assert_eq!(m.value(x, y), m.value(x + 48, y));
+//!     }
+//! }
+//! ```
 
 pub mod dunes;
 #[cfg(feature = "plot")]
