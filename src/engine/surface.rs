@@ -33,6 +33,9 @@ pub trait SlotListener {
     fn slot_of(&self, cell: usize) -> usize;
     /// Slots `a` and `b` exchanged their sites: `cell_a` is now at `a`, `cell_b` at `b`.
     fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32);
+    /// `cell` moved from slot `from` to slot `to` (`from` is left as a hole, soon filled or
+    /// popped).
+    fn moved(&mut self, from: usize, to: usize, cell: u32);
     /// `cell` was appended at `slot`.
     fn pushed(&mut self, cell: u32, slot: usize);
     /// The last slot, `slot`, was removed.
@@ -118,12 +121,14 @@ impl Surface {
     #[inline]
     pub fn remove(&mut self, mut slot: usize, b: usize, l: &mut impl SlotListener) {
         debug_assert!(self.class_range(b).contains(&slot));
-        // Walk the hole down to the end: in each class, swap with its last element.
+        // Walk the hole down to the end: in each class, its last element fills the hole
+        // (the site order a swap with the removed site would give, without rewriting it).
         for c in (1..=b).rev() {
             let last = self.end[c] - 1;
             if last != slot {
-                self.sites.swap(last, slot);
-                l.swapped(last, self.sites[last], slot, self.sites[slot]);
+                let moved = self.sites[last];
+                self.sites[slot] = moved;
+                l.moved(last, slot, moved);
             }
             self.end[c] -= 1;
             slot = last;
@@ -152,6 +157,9 @@ mod tests {
         fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
             self.0[cell_a as usize] = a;
             self.0[cell_b as usize] = b;
+        }
+        fn moved(&mut self, _from: usize, to: usize, cell: u32) {
+            self.0[cell as usize] = to;
         }
         fn pushed(&mut self, cell: u32, slot: usize) {
             self.0[cell as usize] = slot;

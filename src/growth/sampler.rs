@@ -307,9 +307,21 @@ impl Growth {
     /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
     /// site directly. Returns at the acceptance, or moves the clock to `limit` if the next
     /// acceptance would come later.
+    pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        // The neighbourhood size as a constant, so that the loops over the classes unroll.
+        match self.lattice.z() {
+            4 => self.step_exact_z::<4>(rng, limit),
+            6 => self.step_exact_z::<6>(rng, limit),
+            _ => self.step_exact_z::<8>(rng, limit),
+        }
+    }
+
+    /// [`Growth::step_exact`] for a neighbourhood of `Z` cells (`Z` = the lattice's `z`).
     // The class number b indexes several tables at once; plain index loops read best.
     #[allow(clippy::needless_range_loop)]
-    pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+    #[inline(always)]
+    fn step_exact_z<const Z: usize>(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        debug_assert_eq!(Z, self.lattice.z());
         let s = self.surface.len();
         if s == 0 {
             return Outcome::Exhausted;
@@ -321,7 +333,7 @@ impl Growth {
         if self.tree.is_none() && !self.weight.is_uniform() {
             self.build_weight_tree();
         }
-        let z = self.lattice.z();
+        let z = Z;
         // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
         // class (highest b with m_b > 0).
         let mut mass = [0.0f64; 9];
@@ -355,7 +367,8 @@ impl Growth {
         let mut w = [0.0f64; 9];
         let mut total = 0.0;
         let ratio = self.rule.ratio_row(top);
-        for b in 1..=top {
+        // (over all Z classes: above the top both the mass and the ratio are 0, adding +0)
+        for b in 1..=Z {
             w[b] = mass[b] * ratio[b];
             total += w[b];
         }

@@ -123,6 +123,10 @@ impl SlotListener for SlotSink<'_> {
         set_slot(self.cells, cell_b as usize, b);
     }
     #[inline(always)]
+    fn moved(&mut self, _from: usize, to: usize, cell: u32) {
+        set_slot(self.cells, cell as usize, to);
+    }
+    #[inline(always)]
     fn pushed(&mut self, cell: u32, slot: usize) {
         set_slot(self.cells, cell as usize, slot);
     }
@@ -160,6 +164,11 @@ impl SlotListener for WeightSink<'_> {
         let (va, vb) = (self.tree.get(b), self.tree.get(a));
         self.tree.set(a, va);
         self.tree.set(b, vb);
+    }
+    #[inline]
+    fn moved(&mut self, from: usize, to: usize, cell: u32) {
+        self.slots.moved(from, to, cell);
+        self.tree.set(to, self.tree.get(from));
     }
     #[inline]
     fn pushed(&mut self, cell: u32, slot: usize) {
@@ -204,11 +213,15 @@ fn occupy_cell<L: CellWords>(
         surface.remove((w & SLOT_MASK) as usize, s as usize, sink);
     }
     sink.set_word(cell, OCC << B_SHIFT);
-    lattice.for_each_neighbour(cell, |n| {
+    // one loop over the neighbour list (the same order as `for_each_neighbour`), the body
+    // inlined
+    let list = lattice.neighbour_list(cell);
+    for &n in list.as_slice() {
+        let n = n as usize;
         let wn = sink.word(n);
         let sn = b_of(wn);
         if sn == OCC {
-            return;
+            continue;
         }
         if sn == 0 {
             surface.insert_class1(n as u32, sink);
@@ -218,7 +231,7 @@ fn occupy_cell<L: CellWords>(
         // The slot may have moved in the surface update: keep it, raise b by one.
         let wn = sink.word(n);
         sink.set_word(n, wn + (1 << B_SHIFT));
-    });
+    }
     true
 }
 
