@@ -173,7 +173,7 @@ pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
     // floor() of a non-negative value below 2^63 by truncation (floor is a library call on
     // the baseline x86-64 target); larger values keep their f64 (integral already).
     if k < 9.2e18 {
-        (k as u64) as f64
+        (k as i64) as f64
     } else {
         k.floor()
     }
@@ -342,7 +342,8 @@ impl Growth {
             None => {
                 for b in 1..=z {
                     let len = self.surface.class_len(b);
-                    mass[b] = len as f64;
+                    // (u32 converts in one instruction; a lattice has < 2^28 cells)
+                    mass[b] = f64::from(len as u32);
                     if len > 0 {
                         top = b;
                     }
@@ -439,7 +440,7 @@ impl Growth {
         let slot = match &self.tree {
             // u is uniform in [0, w_b) = [0, count_b ratio_b): u / ratio_b is uniform over
             // the class's slots, so one draw picks both class and site.
-            None => r.start + ((u / ratio[class]) as usize).min(r.end - r.start - 1),
+            None => r.start + ((u / ratio[class]) as i64 as usize).min(r.end - r.start - 1),
             Some(t) => {
                 let u: f64 = rng.random();
                 // The class has positive mass, so a slot with v > 0 exists.
