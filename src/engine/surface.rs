@@ -31,12 +31,13 @@ pub struct Surface {
 pub trait SlotListener {
     /// The slot of surface site `cell`.
     fn slot_of(&self, cell: usize) -> usize;
-    /// Slots `a` and `b` exchanged their sites: `cell_a` is now at `a`, `cell_b` at `b`.
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32);
-    /// `cell` moved from slot `from` to slot `to` (`from` is left as a hole, soon filled or
-    /// popped).
-    fn moved(&mut self, from: usize, to: usize, cell: u32);
-    /// `cell` was appended at `slot`.
+    /// Slots `a` and `b` of class `class` exchanged their sites: `cell_a` is now at `a`,
+    /// `cell_b` at `b` (both still of class `class`).
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize);
+    /// `cell`, of class `class`, moved from slot `from` to slot `to` (`from` is left as a
+    /// hole, soon filled or popped).
+    fn moved(&mut self, from: usize, to: usize, cell: u32, class: usize);
+    /// `cell` (not on the surface until now) was appended at `slot`, joining class 1.
     fn pushed(&mut self, cell: u32, slot: usize);
     /// The last slot, `slot`, was removed.
     fn popped(&mut self, slot: usize);
@@ -112,7 +113,7 @@ impl Surface {
         let first = self.end[b + 1];
         if first != slot {
             self.sites.swap(first, slot);
-            l.swapped(first, self.sites[first], slot, self.sites[slot]);
+            l.swapped(first, self.sites[first], slot, self.sites[slot], b);
         }
         self.end[b + 1] += 1;
     }
@@ -128,7 +129,7 @@ impl Surface {
             if last != slot {
                 let moved = self.sites[last];
                 self.sites[slot] = moved;
-                l.moved(last, slot, moved);
+                l.moved(last, slot, moved, c);
             }
             self.end[c] -= 1;
             slot = last;
@@ -154,11 +155,11 @@ mod tests {
         fn slot_of(&self, cell: usize) -> usize {
             self.0[cell]
         }
-        fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
+        fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, _class: usize) {
             self.0[cell_a as usize] = a;
             self.0[cell_b as usize] = b;
         }
-        fn moved(&mut self, _from: usize, to: usize, cell: u32) {
+        fn moved(&mut self, _from: usize, to: usize, cell: u32, _class: usize) {
             self.0[cell as usize] = to;
         }
         fn pushed(&mut self, cell: u32, slot: usize) {

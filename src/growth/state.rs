@@ -106,10 +106,12 @@ struct SlotSink<'a> {
     cells: &'a mut [u32],
 }
 
+/// The word of a surface site of class `b` at `slot`. Written whole (the class is known
+/// where a slot changes), so that moving a far-away site is one store, with no load of its
+/// old word (a cache miss on the critical path at low `n`, where the front is wide).
 #[inline(always)]
-fn set_slot(cells: &mut [u32], cell: usize, slot: usize) {
-    let w = &mut cells[cell];
-    *w = (*w & !SLOT_MASK) | slot as u32;
+fn site_word(b: usize, slot: usize) -> u32 {
+    ((b as u32) << B_SHIFT) | slot as u32
 }
 
 impl SlotListener for SlotSink<'_> {
@@ -118,17 +120,18 @@ impl SlotListener for SlotSink<'_> {
         (self.cells[cell] & SLOT_MASK) as usize
     }
     #[inline(always)]
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        set_slot(self.cells, cell_a as usize, a);
-        set_slot(self.cells, cell_b as usize, b);
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize) {
+        self.cells[cell_a as usize] = site_word(class, a);
+        self.cells[cell_b as usize] = site_word(class, b);
     }
     #[inline(always)]
-    fn moved(&mut self, _from: usize, to: usize, cell: u32) {
-        set_slot(self.cells, cell as usize, to);
+    fn moved(&mut self, _from: usize, to: usize, cell: u32, class: usize) {
+        self.cells[cell as usize] = site_word(class, to);
     }
     #[inline(always)]
     fn pushed(&mut self, cell: u32, slot: usize) {
-        set_slot(self.cells, cell as usize, slot);
+        // (state 0: the caller raises it to 1)
+        self.cells[cell as usize] = site_word(0, slot);
     }
     #[inline(always)]
     fn popped(&mut self, _slot: usize) {}
@@ -159,15 +162,15 @@ impl SlotListener for WeightSink<'_> {
         self.slots.slot_of(cell)
     }
     #[inline]
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        self.slots.swapped(a, cell_a, b, cell_b);
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize) {
+        self.slots.swapped(a, cell_a, b, cell_b, class);
         let (va, vb) = (self.tree.get(b), self.tree.get(a));
         self.tree.set(a, va);
         self.tree.set(b, vb);
     }
     #[inline]
-    fn moved(&mut self, from: usize, to: usize, cell: u32) {
-        self.slots.moved(from, to, cell);
+    fn moved(&mut self, from: usize, to: usize, cell: u32, class: usize) {
+        self.slots.moved(from, to, cell, class);
         self.tree.set(to, self.tree.get(from));
     }
     #[inline]
