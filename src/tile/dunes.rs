@@ -247,9 +247,10 @@ impl RowSource for RippledDunes {
     fn tile_size(&self) -> (usize, usize) {
         self.mosaic.tile_size()
     }
-    /// The same values as [`RippledDunes::value`], bit for bit (see
-    /// [`RippledDunes::fill_row_by`]), with the floors compiled to one instruction where the
-    /// processor has AVX2.
+    /// The same values as [`RippledDunes::value`], bit for bit: the dune heights of the row
+    /// from per-row cubic coefficients, the anchor copies one after another over the bins
+    /// between their anchors, the floors compiled to one instruction where the processor has
+    /// AVX2.
     fn fill_row(&self, y: usize, out: &mut [f32]) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
