@@ -11,7 +11,8 @@
 //! within a class (the exact sampler) is one random index within its segment. Every update
 //! the growth rules need is `O(1)` or `O(z)`: a new site joins class 1 at the end; a site
 //! whose `b` grows by one swaps with the first element of its segment and the boundary moves
-//! past it; a site that leaves the surface is swapped down segment by segment to the end.
+//! past it; a site that leaves the surface leaves a hole that the last site of each segment fills
+//! in turn down to the end.
 
 /// Largest supported neighbourhood size.
 pub const MAX_Z: usize = 8;
