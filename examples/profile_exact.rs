@@ -1,5 +1,5 @@
 //! Profiling driver: grows a 2048 x 2048 hexagonal torus flame with the exact sampler.
-//! `cargo run --release --example profile_exact -- N EVENTS`
+//! `cargo run --release --example profile_exact -- N EVENTS [SIZE]` (SIZE x SIZE, default 2048).
 use cellsurf::engine::lattice::*;
 use cellsurf::engine::rng::stream;
 use cellsurf::growth::{Growth, rule::*, sampler::*};
@@ -11,7 +11,8 @@ fn main() {
         .next()
         .and_then(|s| s.parse().ok())
         .unwrap_or(2_000_000);
-    let l = Lattice::new(Neighbourhood::Hex, 2048, 2048, Boundary::TORUS).unwrap();
+    let size: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(2048);
+    let l = Lattice::new(Neighbourhood::Hex, size, size, Boundary::TORUS).unwrap();
     let mut g = Growth::new(l, Sticking::new(n, 6).unwrap(), Weight::Isotropic, false).unwrap();
     let (pw, ph) = g.lattice().physical_size();
     g.occupy_where(|x, y| (x - pw / 2.0).abs() < 10.0 && (y - ph / 2.0).abs() < 10.0);

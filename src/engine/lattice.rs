@@ -17,6 +17,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
+use strength_reduce::StrengthReducedU32;
 use thiserror::Error;
 
 /// Marks a missing neighbour (beyond a wall).
@@ -275,6 +276,8 @@ pub struct Lattice {
     boundary: Boundary,
     /// Index offsets of the neighbours of an interior cell, per row parity.
     delta: [[i64; 8]; 2],
+    /// The width as a divisor: `(x, y)` of a cell index by multiplication.
+    wdiv: StrengthReducedU32,
 }
 
 /// The largest number of cells a lattice may have (indices are `u32`, one value is reserved).
@@ -342,6 +345,7 @@ impl Lattice {
             hood,
             boundary,
             delta,
+            wdiv: StrengthReducedU32::new(width as u32),
         })
     }
 
@@ -387,11 +391,9 @@ impl Lattice {
     pub fn neighbour_list(&self, cell: usize) -> NeighbourList {
         let z = self.hood.z();
         let (w, h) = (self.width, self.height);
-        // Indices fit in u32 (MAX_CELLS); 32-bit division is much cheaper than 64-bit.
-        let (x, y) = (
-            (cell as u32 % w as u32) as usize,
-            (cell as u32 / w as u32) as usize,
-        );
+        // Indices fit in u32 (MAX_CELLS): divided by multiplication.
+        let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
+        let (x, y) = (x as usize, y as usize);
         let mut ids = [NONE; 8];
         if x >= 1 && x + 1 < w && y >= 1 && y + 1 < h {
             let d = &self.delta[y & 1];
@@ -418,10 +420,8 @@ impl Lattice {
     #[inline(always)]
     pub fn for_each_neighbour(&self, cell: usize, mut f: impl FnMut(usize)) {
         let (w, h) = (self.width, self.height);
-        let (x, y) = (
-            (cell as u32 % w as u32) as usize,
-            (cell as u32 / w as u32) as usize,
-        );
+        let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
+        let (x, y) = (x as usize, y as usize);
         if x >= 1 && x + 1 < w && y >= 1 && y + 1 < h {
             let z = self.hood.z();
             let d = &self.delta[y & 1];

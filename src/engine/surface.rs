@@ -11,7 +11,8 @@
 //! within a class (the exact sampler) is one random index within its segment. Every update
 //! the growth rules need is `O(1)` or `O(z)`: a new site joins class 1 at the end; a site
 //! whose `b` grows by one swaps with the first element of its segment and the boundary moves
-//! past it; a site that leaves the surface is swapped down segment by segment to the end.
+//! past it; a site that leaves the surface leaves a hole that the last site of each segment fills
+//! in turn down to the end.
 
 /// Largest supported neighbourhood size.
 pub const MAX_Z: usize = 8;
@@ -31,9 +32,13 @@ pub struct Surface {
 pub trait SlotListener {
     /// The slot of surface site `cell`.
     fn slot_of(&self, cell: usize) -> usize;
-    /// Slots `a` and `b` exchanged their sites: `cell_a` is now at `a`, `cell_b` at `b`.
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32);
-    /// `cell` was appended at `slot`.
+    /// Slots `a` and `b` of class `class` exchanged their sites: `cell_a` is now at `a`,
+    /// `cell_b` at `b` (both still of class `class`).
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize);
+    /// `cell`, of class `class`, moved from slot `from` to slot `to` (`from` is left as a
+    /// hole, soon filled or popped).
+    fn moved(&mut self, from: usize, to: usize, cell: u32, class: usize);
+    /// `cell` (not on the surface until now) was appended at `slot`, joining class 1.
     fn pushed(&mut self, cell: u32, slot: usize);
     /// The last slot, `slot`, was removed.
     fn popped(&mut self, slot: usize);
@@ -109,7 +114,7 @@ impl Surface {
         let first = self.end[b + 1];
         if first != slot {
             self.sites.swap(first, slot);
-            l.swapped(first, self.sites[first], slot, self.sites[slot]);
+            l.swapped(first, self.sites[first], slot, self.sites[slot], b);
         }
         self.end[b + 1] += 1;
     }
@@ -118,12 +123,14 @@ impl Surface {
     #[inline]
     pub fn remove(&mut self, mut slot: usize, b: usize, l: &mut impl SlotListener) {
         debug_assert!(self.class_range(b).contains(&slot));
-        // Walk the hole down to the end: in each class, swap with its last element.
+        // Walk the hole down to the end: in each class, its last element fills the hole
+        // (the site order a swap with the removed site would give, without rewriting it).
         for c in (1..=b).rev() {
             let last = self.end[c] - 1;
             if last != slot {
-                self.sites.swap(last, slot);
-                l.swapped(last, self.sites[last], slot, self.sites[slot]);
+                let moved = self.sites[last];
+                self.sites[slot] = moved;
+                l.moved(last, slot, moved, c);
             }
             self.end[c] -= 1;
             slot = last;
@@ -149,9 +156,12 @@ mod tests {
         fn slot_of(&self, cell: usize) -> usize {
             self.0[cell]
         }
-        fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
+        fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, _class: usize) {
             self.0[cell_a as usize] = a;
             self.0[cell_b as usize] = b;
+        }
+        fn moved(&mut self, _from: usize, to: usize, cell: u32, _class: usize) {
+            self.0[cell as usize] = to;
         }
         fn pushed(&mut self, cell: u32, slot: usize) {
             self.0[cell as usize] = slot;

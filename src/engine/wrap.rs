@@ -2,7 +2,8 @@
 //!
 //! [`wrap`] is `i mod n` in `0..n` with no division when `i` is already in range (the common
 //! case); [`floor`] is `f64::floor` without the library call that the baseline x86-64 target
-//! makes for it (no SSE4.1 `roundsd`), exact for every `|x| < 2^63`.
+//! makes for it (no SSE4.1 `roundsd`), exact for every `|x| < 2^63`; [`floor_by`] chooses
+//! between it and the library's (for code compiled with SSE4.1 or later enabled).
 
 /// `i mod n` in `0..n` (`n > 0`): `i` itself when it is in range, else `i.rem_euclid(n)`.
 #[inline(always)]
@@ -30,6 +31,14 @@ pub fn floor(x: f64) -> f64 {
     } else {
         x.floor()
     }
+}
+
+/// `x.floor()` by [`floor`] (`LIB = false`) or by the library (`LIB = true`: one `roundsd`
+/// instruction when inlined into code compiled for SSE4.1 or later, a library call
+/// otherwise); the same bits either way.
+#[inline(always)]
+pub fn floor_by<const LIB: bool>(x: f64) -> f64 {
+    if LIB { x.floor() } else { floor(x) }
 }
 
 #[cfg(test)]

@@ -173,7 +173,7 @@ pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
     // floor() of a non-negative value below 2^63 by truncation (floor is a library call on
     // the baseline x86-64 target); larger values keep their f64 (integral already).
     if k < 9.2e18 {
-        (k as u64) as f64
+        (k as i64) as f64
     } else {
         k.floor()
     }
@@ -307,9 +307,21 @@ impl Growth {
     /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
     /// site directly. Returns at the acceptance, or moves the clock to `limit` if the next
     /// acceptance would come later.
+    pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        // The neighbourhood size as a constant, so that the loops over the classes unroll.
+        match self.lattice.z() {
+            4 => self.step_exact_z::<4>(rng, limit),
+            6 => self.step_exact_z::<6>(rng, limit),
+            _ => self.step_exact_z::<8>(rng, limit),
+        }
+    }
+
+    /// [`Growth::step_exact`] for a neighbourhood of `Z` cells (`Z` = the lattice's `z`).
     // The class number b indexes several tables at once; plain index loops read best.
     #[allow(clippy::needless_range_loop)]
-    pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+    #[inline(always)]
+    fn step_exact_z<const Z: usize>(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        debug_assert_eq!(Z, self.lattice.z());
         let s = self.surface.len();
         if s == 0 {
             return Outcome::Exhausted;
@@ -321,7 +333,7 @@ impl Growth {
         if self.tree.is_none() && !self.weight.is_uniform() {
             self.build_weight_tree();
         }
-        let z = self.lattice.z();
+        let z = Z;
         // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
         // class (highest b with m_b > 0).
         let mut mass = [0.0f64; 9];
@@ -330,7 +342,8 @@ impl Growth {
             None => {
                 for b in 1..=z {
                     let len = self.surface.class_len(b);
-                    mass[b] = len as f64;
+                    // (u32 converts in one instruction; a lattice has < 2^28 cells)
+                    mass[b] = f64::from(len as u32);
                     if len > 0 {
                         top = b;
                     }
@@ -355,7 +368,8 @@ impl Growth {
         let mut w = [0.0f64; 9];
         let mut total = 0.0;
         let ratio = self.rule.ratio_row(top);
-        for b in 1..=top {
+        // (over all Z classes: above the top both the mass and the ratio are 0, adding +0)
+        for b in 1..=Z {
             w[b] = mass[b] * ratio[b];
             total += w[b];
         }
@@ -426,7 +440,7 @@ impl Growth {
         let slot = match &self.tree {
             // u is uniform in [0, w_b) = [0, count_b ratio_b): u / ratio_b is uniform over
             // the class's slots, so one draw picks both class and site.
-            None => r.start + ((u / ratio[class]) as usize).min(r.end - r.start - 1),
+            None => r.start + ((u / ratio[class]) as i64 as usize).min(r.end - r.start - 1),
             Some(t) => {
                 let u: f64 = rng.random();
                 // The class has positive mass, so a slot with v > 0 exists.

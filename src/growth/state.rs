@@ -106,10 +106,12 @@ struct SlotSink<'a> {
     cells: &'a mut [u32],
 }
 
+/// The word of a surface site of class `b` at `slot`. Written whole (the class is known
+/// where a slot changes), so that moving a far-away site is one store, with no load of its
+/// old word (a cache miss on the critical path at low `n`, where the front is wide).
 #[inline(always)]
-fn set_slot(cells: &mut [u32], cell: usize, slot: usize) {
-    let w = &mut cells[cell];
-    *w = (*w & !SLOT_MASK) | slot as u32;
+fn site_word(b: usize, slot: usize) -> u32 {
+    ((b as u32) << B_SHIFT) | slot as u32
 }
 
 impl SlotListener for SlotSink<'_> {
@@ -118,13 +120,18 @@ impl SlotListener for SlotSink<'_> {
         (self.cells[cell] & SLOT_MASK) as usize
     }
     #[inline(always)]
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        set_slot(self.cells, cell_a as usize, a);
-        set_slot(self.cells, cell_b as usize, b);
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize) {
+        self.cells[cell_a as usize] = site_word(class, a);
+        self.cells[cell_b as usize] = site_word(class, b);
+    }
+    #[inline(always)]
+    fn moved(&mut self, _from: usize, to: usize, cell: u32, class: usize) {
+        self.cells[cell as usize] = site_word(class, to);
     }
     #[inline(always)]
     fn pushed(&mut self, cell: u32, slot: usize) {
-        set_slot(self.cells, cell as usize, slot);
+        // (state 0: the caller raises it to 1)
+        self.cells[cell as usize] = site_word(0, slot);
     }
     #[inline(always)]
     fn popped(&mut self, _slot: usize) {}
@@ -155,11 +162,16 @@ impl SlotListener for WeightSink<'_> {
         self.slots.slot_of(cell)
     }
     #[inline]
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32) {
-        self.slots.swapped(a, cell_a, b, cell_b);
+    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize) {
+        self.slots.swapped(a, cell_a, b, cell_b, class);
         let (va, vb) = (self.tree.get(b), self.tree.get(a));
         self.tree.set(a, va);
         self.tree.set(b, vb);
+    }
+    #[inline]
+    fn moved(&mut self, from: usize, to: usize, cell: u32, class: usize) {
+        self.slots.moved(from, to, cell, class);
+        self.tree.set(to, self.tree.get(from));
     }
     #[inline]
     fn pushed(&mut self, cell: u32, slot: usize) {
@@ -204,11 +216,15 @@ fn occupy_cell<L: CellWords>(
         surface.remove((w & SLOT_MASK) as usize, s as usize, sink);
     }
     sink.set_word(cell, OCC << B_SHIFT);
-    lattice.for_each_neighbour(cell, |n| {
+    // one loop over the neighbour list (the same order as `for_each_neighbour`), the body
+    // inlined
+    let list = lattice.neighbour_list(cell);
+    for &n in list.as_slice() {
+        let n = n as usize;
         let wn = sink.word(n);
         let sn = b_of(wn);
         if sn == OCC {
-            return;
+            continue;
         }
         if sn == 0 {
             surface.insert_class1(n as u32, sink);
@@ -218,7 +234,7 @@ fn occupy_cell<L: CellWords>(
         // The slot may have moved in the surface update: keep it, raise b by one.
         let wn = sink.word(n);
         sink.set_word(n, wn + (1 << B_SHIFT));
-    });
+    }
     true
 }
 

@@ -62,6 +62,11 @@ pub struct RippledDunes {
     anchor: (usize, usize),
     anchors: (usize, usize),
     dx: f64,
+    /// The dune-grid cell of every column ([`DuneField::row_cells`]).
+    cells: Vec<(u32, f64)>,
+    /// A number unique to this surface (shared by its clones, which are equal), naming it in
+    /// the per-thread cache of anchor rotations.
+    id: u64,
 }
 
 impl RippledDunes {
@@ -157,8 +162,10 @@ impl RippledDunes {
             base: (b.cos(), b.sin()),
             theta0,
             steering,
+            cells: dunes.row_cells(mosaic.tiles()[0].bin_size, w),
             dunes,
             mosaic,
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         })
     }
 
@@ -240,24 +247,208 @@ impl RowSource for RippledDunes {
     fn tile_size(&self) -> (usize, usize) {
         self.mosaic.tile_size()
     }
+    /// The same values as [`RippledDunes::value`], bit for bit: the dune heights of the row
+    /// from per-row cubic coefficients, the anchor copies one after another over the bins
+    /// between their anchors, the floors compiled to one instruction where the processor has
+    /// AVX2.
     fn fill_row(&self, y: usize, out: &mut [f32]) {
-        let ay = self.anchor.1 as i64;
-        let j = (y as i64).div_euclid(ay);
-        let n = self.anchors.0 + 1;
-        // the rotations of the two anchor rows round this row, once per row
-        let rows: Vec<Vec<(f64, f64)>> = (0..2)
-            .map(|dj| {
-                (0..n as i64)
-                    .map(|i| self.anchor_rotation(i, j + dj))
-                    .collect()
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2, checked just above.
+            unsafe { self.fill_row_avx2(y, out) };
+            return;
+        }
+        self.fill_row_by::<false>(y, out);
+    }
+}
+
+impl RippledDunes {
+    /// [`RippledDunes::fill_row_by`] compiled for AVX2 (the library floor is then `roundsd`).
+    ///
+    /// # Safety
+    /// The processor must have AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn fill_row_avx2(&self, y: usize, out: &mut [f32]) {
+        self.fill_row_by::<true>(y, out);
+    }
+
+    /// Row `y` rounded to f32 from [`RippledDunes::row_by`].
+    #[inline(always)]
+    fn fill_row_by<const LIB: bool>(&self, y: usize, out: &mut [f32]) {
+        let row = self.row_by::<LIB>(y, out.len());
+        for (o, v) in out.iter_mut().zip(&row) {
+            *o = *v as f32;
+        }
+    }
+
+    /// Row `y`: the same values as [`RippledDunes::value`], bit for bit. The dune heights come
+    /// from [`DuneField`]'s per-row cubic coefficients; then each anchor copy in turn over the
+    /// bins between its anchors (its rotation and offsets hoisted), the four copies added in
+    /// the order `value` adds them. The anchor rotations of the two anchor rows round `y` are
+    /// kept per thread while the rows come in order. `LIB`: floors by the library
+    /// ([`crate::engine::wrap::floor_by`]). `w`: the bins wanted (at most the width).
+    #[inline(always)]
+    fn row_by<const LIB: bool>(&self, y: usize, w: usize) -> Vec<f64> {
+        let w = w.min(self.cells.len());
+        let mut ripple = vec![0.0f64; w];
+        let (ax, ay) = (self.anchor.0 as i64, self.anchor.1 as i64);
+        let yi = y as i64;
+        let j = yi.div_euclid(ay);
+        let fy = (yi - j * ay) as f64 / ay as f64;
+        // fx for every offset from the anchor column
+        let fxs: Vec<f64> = (0..ax).map(|d| d as f64 / ax as f64).collect();
+        let (bc, bs) = self.base;
+        let turned = (bc, bs) != (1.0, 0.0);
+        ANCHOR_ROWS.with_borrow_mut(|cache| {
+            let rot = cache.rows(self, j);
+            for (i, seg) in ripple.chunks_mut(ax as usize).enumerate() {
+                let x_start = i as i64 * ax;
+                for (dj, wy) in [(0, 1.0 - fy), (1, fy)] {
+                    if wy == 0.0 {
+                        continue; // every weight of this anchor row is zero
+                    }
+                    for di in 0..2 {
+                        let cx = ((i as i64 + di) * ax) as f64;
+                        let cy = ((j + dj) * ay) as f64;
+                        let (c, s) = rot[dj as usize][i + di as usize];
+                        let py = y as f64 - cy;
+                        let (spy, cpy) = (s * py, c * py);
+                        // the right anchor's weight fx is zero on its left anchor's column
+                        let skip = di as usize;
+                        let bins = seg.iter_mut().zip(&fxs).zip(x_start..).skip(skip);
+                        for ((r, &fx), x) in bins {
+                            let wx = if di == 0 { 1.0 - fx } else { fx };
+                            let px = x as f64 - cx;
+                            // local deflection about the anchor, then the global turn about the
+                            // origin (none when the tiles' current is the user's: then
+                            // `(qx, qy) = (lx, ly)` up to the sign of a zero, which the
+                            // sampling ignores)
+                            let (lx, ly) = (cx + c * px + spy, cy - s * px + cpy);
+                            let (qx, qy) = if turned {
+                                (bc * lx + bs * ly, -bs * lx + bc * ly)
+                            } else {
+                                (lx, ly)
+                            };
+                            *r += wx * wy * self.mosaic.sample_by::<LIB>(qx, qy);
+                        }
+                    }
+                }
+            }
+        });
+        let mut height = vec![0.0; w];
+        self.dunes
+            .height_row::<LIB>(y as f64 * self.dx, &self.cells[..w], &mut height);
+        for (r, h) in ripple.iter_mut().zip(&height) {
+            *r += h; // `value` adds the ripple to the height: the same sum
+        }
+        ripple
+    }
+}
+
+/// The anchor rotations of two consecutive anchor rows of one [`RippledDunes`], kept per
+/// thread: the rows of a block come in order, so a row mostly reuses its predecessor's.
+#[derive(Default)]
+struct AnchorRows {
+    /// [`RippledDunes::id`] of the surface they belong to, 0 for none.
+    owner: u64,
+    /// The first of the two anchor rows.
+    j: i64,
+    rows: [Vec<(f64, f64)>; 2],
+}
+
+impl AnchorRows {
+    /// The rotations of anchor rows `j` and `j + 1` of `d` (anchor columns `0 ..= anchors`).
+    fn rows(&mut self, d: &RippledDunes, j: i64) -> &[Vec<(f64, f64)>; 2] {
+        let row = |j: i64| -> Vec<(f64, f64)> {
+            (0..=d.anchors.0 as i64)
+                .map(|i| d.anchor_rotation(i, j))
+                .collect()
+        };
+        if self.owner != d.id || self.j != j {
+            if self.owner == d.id && self.j + 1 == j {
+                self.rows.swap(0, 1);
+            } else {
+                self.rows[0] = row(j);
+            }
+            self.rows[1] = row(j + 1);
+            (self.owner, self.j) = (d.id, j);
+        }
+        &self.rows
+    }
+}
+
+thread_local! {
+    static ANCHOR_ROWS: std::cell::RefCell<AnchorRows> = std::cell::RefCell::default();
+}
+
+/// The source of [`RippledDunes::id`].
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tile::{Choose, Tile};
+
+    /// Tiles of oblique crests (`nx x ny` bins of 1 cm), a little different per tile.
+    fn tiles(nx: usize, ny: usize, n: usize) -> Vec<Tile> {
+        (0..n)
+            .map(|k| {
+                let e = (0..nx * ny)
+                    .map(|i| {
+                        let (x, y) = ((i % nx) as f64, (i / nx) as f64);
+                        let a = 2.0 * std::f64::consts::PI * (x / 7.0 + y / (23.0 + k as f64));
+                        (0.02 + 0.01 * a.cos() + 0.001 * k as f64) as f32
+                    })
+                    .collect();
+                Tile::from_elevation(nx, ny, 0.01, e, "t").unwrap()
             })
-            .collect();
-        let ax = self.anchor.0 as i64;
-        let yy = y as f64 * self.dx;
-        for (x, o) in out.iter_mut().enumerate() {
-            let i = (x as i64).div_euclid(ax) as usize;
-            let r = self.ripple(x as i64, y as i64, |di, dj| rows[dj][i + di]);
-            *o = (self.dunes.height(x as f64 * self.dx, yy) + r) as f32;
+            .collect()
+    }
+
+    /// Every bin of every row, by both floors, is `value`, bit for bit (in f64, before the
+    /// rounding to f32 hides most differences; and after it): tile
+    /// edges, cross-fade bands, patches, a turned pattern, whole-tile anchors, both reliefs.
+    #[test]
+    fn rows_are_the_values_bit_for_bit() {
+        let fbm = Relief::Fbm { hurst: 0.6 };
+        let band = Relief::Wavelength {
+            wavelength: 0.3,
+            current_angle: 0.0,
+        };
+        // (tile nx, ny, pool, cells, choose, blend, relief, current angle, steering, grid)
+        let cases = [
+            (16, 8, 1, (5, 9), Choose::Same, 0, fbm, 0.0, 3.0, 24),
+            (16, 8, 3, (4, 6), Choose::Patches, 6, fbm, 0.0, 5.0, 17),
+            (16, 8, 2, (4, 5), Choose::Patches, 0, fbm, 30.0, 3.0, 32),
+            (9, 7, 2, (5, 6), Choose::Patches, 4, band, -70.0, 1.0, 40),
+            (12, 10, 1, (3, 3), Choose::Same, 0, fbm, 0.0, 0.0, 2),
+        ];
+        for (nx, ny, n, (mx, my), choose, blend, relief, angle, steering, grid) in cases {
+            let m = Mosaic::new(tiles(nx, ny, n), mx, my, choose, 7, blend).unwrap();
+            let p = DuneParams {
+                relief,
+                rms: 0.05,
+                grid,
+                current_angle: angle,
+                steering,
+                seed: 3,
+            };
+            let d = RippledDunes::new(m, &p).unwrap();
+            let (w, h) = (d.width(), d.height());
+            let mut row = vec![0.0f32; w];
+            // rows out of order as well as in order (the per-thread anchor rows)
+            for y in (0..h).chain([h - 1, 0, 5, 4]) {
+                d.fill_row(y, &mut row);
+                let (a, b) = (d.row_by::<true>(y, w), d.row_by::<false>(y, w));
+                for x in 0..w {
+                    let v = d.value(x as i64, y as i64);
+                    let at = format!("{nx}x{ny} ({x}, {y})");
+                    assert_eq!(a[x].to_bits(), v.to_bits(), "{at}");
+                    assert_eq!(b[x].to_bits(), v.to_bits(), "{at}");
+                    assert_eq!(row[x].to_bits(), (v as f32).to_bits(), "{at}");
+                }
+            }
         }
     }
 }

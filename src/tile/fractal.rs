@@ -30,7 +30,7 @@ use rustfft::num_complex::Complex;
 use super::TileError;
 use super::seam::{SlopeAcc, SlopeStats};
 use crate::engine::rng;
-use crate::engine::wrap::{floor, wrap};
+use crate::engine::wrap::{floor, floor_by, wrap};
 use crate::ripple::spectrum::fft2;
 
 /// The shape of the dune spectrum.
@@ -185,6 +185,18 @@ pub(crate) fn synthesize_complex(p: &FbmParams) -> Vec<Complex<f64>> {
     buf
 }
 
+/// The Catmull-Rom cubic through `p[1]` (`t = 0`) and `p[2]` (`t = 1`) with the end slopes
+/// `(p[2] - p[0]) / 2` and `(p[3] - p[1]) / 2` (Catmull & Rom 1974, "A class of local
+/// interpolating splines", in Computer Aided Geometric Design, Academic Press), in Horner form.
+#[inline(always)]
+fn catmull_rom(p: [f64; 4], t: f64) -> f64 {
+    p[1] + 0.5
+        * t
+        * (p[2] - p[0]
+            + t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3]
+                + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])))
+}
+
 /// A periodic dune relief on a grid of nodes (node `(i, j)` at `(i dx, j dy)` m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DuneField {
@@ -281,21 +293,67 @@ impl DuneField {
         let (x0, y0) = (floor(fx), floor(fy));
         let (tx, ty) = (fx - x0, fy - y0);
         let (nx, ny) = (self.nx, self.ny);
-        let cr = |p: [f64; 4], t: f64| {
-            p[1] + 0.5
-                * t
-                * (p[2] - p[0]
-                    + t * (2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3]
-                        + t * (3.0 * (p[1] - p[2]) + p[3] - p[0])))
-        };
         let i: [usize; 4] = std::array::from_fn(|d| wrap(x0 as i64 + d as i64 - 1, nx));
         let mut col = [0.0; 4];
         for (k, c) in col.iter_mut().enumerate() {
             let j = wrap(y0 as i64 + k as i64 - 1, ny);
             let row = &self.h[j * self.nx..(j + 1) * self.nx];
-            *c = cr([row[i[0]], row[i[1]], row[i[2]], row[i[3]]], tx);
+            *c = catmull_rom([row[i[0]], row[i[1]], row[i[2]], row[i[3]]], tx);
         }
-        cr(col, ty)
+        catmull_rom(col, ty)
+    }
+
+    /// The x node cell of the bins of a row for [`DuneField::height_row`]: for bin `k` at
+    /// `k step` m (`k < n`), the node column `i` at or left of it and its offset `tx` in `[0, 1)`
+    /// from there, as [`DuneField::height`] computes them.
+    pub(crate) fn row_cells(&self, step: f64, n: usize) -> Vec<(u32, f64)> {
+        (0..n)
+            .map(|k| {
+                let fx = (k as f64 * step) / self.dx;
+                let x0 = floor(fx);
+                (wrap(x0 as i64, self.nx) as u32, fx - x0)
+            })
+            .collect()
+    }
+
+    /// [`DuneField::height`] along a row: `out[k] = height(k step, y)`, bit for bit, with
+    /// `cells` from [`DuneField::row_cells`] for the same `step`. The four node rows round `y`
+    /// get their Catmull-Rom coefficients along x once per node column (the same operations in
+    /// the same order as `height`), so a bin costs four cubics in x and one in y.
+    #[inline(always)]
+    pub(crate) fn height_row<const LIB: bool>(
+        &self,
+        y: f64,
+        cells: &[(u32, f64)],
+        out: &mut [f64],
+    ) {
+        let fy = y / self.dy;
+        let y0 = floor_by::<LIB>(fy);
+        let ty = fy - y0;
+        let nx = self.nx;
+        let rows: [&[f64]; 4] = std::array::from_fn(|k| {
+            let j = wrap(y0 as i64 + k as i64 - 1, self.ny);
+            &self.h[j * nx..(j + 1) * nx]
+        });
+        // per node column i, per row: (p1, p2 - p0, 2 p0 - 5 p1 + 4 p2 - p3, 3 (p1 - p2) + p3 - p0)
+        let mut coef = vec![[[0.0; 4]; 4]; nx];
+        for (i, c) in coef.iter_mut().enumerate() {
+            let (im, ip, ip2) = ((i + nx - 1) % nx, (i + 1) % nx, (i + 2) % nx);
+            for (c, r) in c.iter_mut().zip(rows) {
+                let p = [r[im], r[i], r[ip], r[ip2]];
+                *c = [
+                    p[1],
+                    p[2] - p[0],
+                    2.0 * p[0] - 5.0 * p[1] + 4.0 * p[2] - p[3],
+                    3.0 * (p[1] - p[2]) + p[3] - p[0],
+                ];
+            }
+        }
+        for (o, &(i, tx)) in out.iter_mut().zip(cells) {
+            let c = &coef[i as usize];
+            let col = c.map(|[p1, a, b, d]| p1 + 0.5 * tx * (a + tx * (b + tx * d)));
+            *o = catmull_rom(col, ty);
+        }
     }
 
     /// Slope `(dh/dx, dh/dy)` at `(x, y)` m: central differences at the nodes, bilinear between.

@@ -17,7 +17,7 @@ use super::seam::edge_weights;
 use super::stream::RowSource;
 use super::tileset::{Tile, check_pool};
 use crate::engine::rng;
-use crate::engine::wrap::{floor, wrap};
+use crate::engine::wrap::{floor_by, wrap};
 
 /// Largest mosaic side in bins (NetCDF-3 dimensions are 32-bit signed).
 pub const MAX_SIDE: usize = i32::MAX as usize;
@@ -78,7 +78,16 @@ pub struct Mosaic {
     /// grid the offset of its tile there: one load per bin instead of three.
     elevations: Vec<f32>,
     offsets: Vec<usize>,
+    /// Per column `x` of the mosaic: (cell, column in the tile) when `x` and `x + 1` lie in
+    /// the same cell with no cross-fade weight, else [`NOT_INTERIOR`]; [`Mosaic::sample`] then
+    /// reads its four corners from one tile at one offset.
+    interior_x: Vec<(u32, u32)>,
+    /// The same per row `y`: (first cell of the cell row, `v * nx` with `v` the tile row).
+    interior_y: Vec<(u32, u32)>,
 }
+
+/// The mark of a column or row whose bilinear cell straddles a tile edge or a cross-fade band.
+const NOT_INTERIOR: u32 = u32::MAX;
 
 impl Mosaic {
     /// `mx x my` cells choosing from `tiles` by `choose` (`seed` for patches), cross-faded over
@@ -164,13 +173,13 @@ impl Mosaic {
                 format!("0 ..= {} bins (the smaller tile side)", nx.min(ny)),
             ));
         }
-        let columns = (0..mx * nx)
+        let columns: Vec<(u32, u32, u32, f32)> = (0..mx * nx)
             .map(|x| {
                 let (c, c2, u, o) = Self::axis(x, nx, mx, band);
                 (c as u32, c2 as u32, u as u32, o)
             })
             .collect();
-        let rows = (0..my * ny)
+        let rows: Vec<(u32, u32, u32, f32)> = (0..my * ny)
             .map(|y| {
                 let (c, c2, v, o) = Self::axis(y, ny, my, band);
                 (c as u32, c2 as u32, v as u32, o)
@@ -181,6 +190,8 @@ impl Mosaic {
             .flat_map(|t| t.elevation.iter().copied())
             .collect();
         let offsets = grid.iter().map(|&g| g as usize * nx * ny).collect();
+        let interior_x = Self::interior(&columns, nx, 1, 1);
+        let interior_y = Self::interior(&rows, ny, mx, nx);
         Ok(Mosaic {
             tiles,
             mx,
@@ -193,7 +204,31 @@ impl Mosaic {
             rows,
             elevations,
             offsets,
+            interior_x,
+            interior_y,
         })
+    }
+
+    /// The interior table of one axis from its `(cell, neighbour, position, weight)` table
+    /// (`n` bins per cell): `(cell * stride, position * scale)` where the bin and the next one
+    /// lie in the same cell at full weight, else ([`NOT_INTERIOR`], 0).
+    fn interior(
+        axis: &[(u32, u32, u32, f32)],
+        n: usize,
+        stride: usize,
+        scale: usize,
+    ) -> Vec<(u32, u32)> {
+        let full = |k: usize| axis.get(k).is_some_and(|a| a.3 == 0.0);
+        (0..axis.len())
+            .map(|k| {
+                let (c, _, u, _) = axis[k];
+                if (u as usize) + 1 < n && full(k) && full(k + 1) {
+                    ((c as usize * stride) as u32, (u as usize * scale) as u32)
+                } else {
+                    (NOT_INTERIOR, 0)
+                }
+            })
+            .collect()
     }
 
     /// Cells along x and y.
@@ -265,16 +300,33 @@ impl Mosaic {
     /// centres, periodic.
     #[inline]
     pub fn sample(&self, x: f64, y: f64) -> f64 {
+        self.sample_by::<false>(x, y)
+    }
+
+    /// [`Mosaic::sample`] with the floors by [`floor_by`]`::<LIB>` (the same bits).
+    #[inline(always)]
+    pub(crate) fn sample_by<const LIB: bool>(&self, x: f64, y: f64) -> f64 {
         let (w, h) = self.size();
-        let (fx, fy) = (floor(x), floor(y));
+        let (fx, fy) = (floor_by::<LIB>(x), floor_by::<LIB>(y));
         let (ax, ay) = (x - fx, y - fy);
         let x0 = wrap(fx as i64, w);
         let y0 = wrap(fy as i64, h);
-        let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
-        let y1 = if y0 + 1 == h { 0 } else { y0 + 1 };
-        let v = |x, y| self.value_in(x, y) as f64;
-        (1.0 - ay) * ((1.0 - ax) * v(x0, y0) + ax * v(x1, y0))
-            + ay * ((1.0 - ax) * v(x0, y1) + ax * v(x1, y1))
+        let ((ci, u), (r, vn)) = (self.interior_x[x0], self.interior_y[y0]);
+        let [v00, v10, v01, v11] = if ci != NOT_INTERIOR && r != NOT_INTERIOR {
+            // the four corners in one tile, away from its edges and the cross-fade: the values
+            // `value_in` gives there, read at one offset
+            let e = self.offsets[(r + ci) as usize] + (vn + u) as usize;
+            let (lo, hi) = (
+                &self.elevations[e..e + 2],
+                &self.elevations[e + self.nx..][..2],
+            );
+            [lo[0], lo[1], hi[0], hi[1]].map(f64::from)
+        } else {
+            let x1 = if x0 + 1 == w { 0 } else { x0 + 1 };
+            let y1 = if y0 + 1 == h { 0 } else { y0 + 1 };
+            [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| self.value_in(x, y) as f64)
+        };
+        (1.0 - ay) * ((1.0 - ax) * v00 + ax * v10) + ay * ((1.0 - ax) * v01 + ax * v11)
     }
 
     /// Levels of the volume field (the tallest tile's), 0 without volumes.
