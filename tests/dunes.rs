@@ -783,7 +783,9 @@ mod cli {
         assert_eq!(a["iterations"], 20);
         assert_eq!(a["sand_change"], 0);
         assert_eq!(a["mode"], "dune");
-        assert_eq!(a["parameters"]["grid"], 24);
+        assert_eq!(a["parameters"]["size"], "24x24");
+        assert_eq!(a["parameters"]["steps"], 20);
+        assert_eq!(a["config"]["grid"], 24);
         assert_eq!(a["parameters"]["quantity"], 2.0);
         for k in ["dune_bodies", "bare_fraction", "min_height", "total_grains"] {
             assert_eq!(a[k], b[k], "{k}: short and long flags, same run");

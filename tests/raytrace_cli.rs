@@ -260,7 +260,7 @@ fn section_length_range_is_the_one_enforced() {
     assert!(!o.status.success());
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(
-        e.contains("section length = 1000000") && e.contains("100000] m"),
+        e.contains("--length (section length) = 1000000") && e.contains("100000] m"),
         "{e}"
     );
     assert!(!e.contains("samples = "), "{e}");
