@@ -31,6 +31,10 @@ fn subcommands() -> Vec<(&'static str, Vec<&'static str>)> {
         ),
         ("raytrace", vec!["--length", "2", "--rays", "20"]),
         (
+            "ripple",
+            vec!["--size", "24x12", "--layers", "10", "--steps", "20"],
+        ),
+        (
             "tile",
             vec![
                 "--generate",

@@ -67,6 +67,12 @@ fn cases() -> Vec<(
             ],
             vec!["t.npy"],
         ),
+        (
+            "ripple",
+            "ripple",
+            vec!["--size", "24x12", "--layers", "10", "--steps", "20"],
+            vec!["b.nc"],
+        ),
     ]
 }
 

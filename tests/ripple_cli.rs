@@ -13,7 +13,7 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 const SMALL: &[&str] = &[
-    "ripple", "--nx", "24", "--ny", "12", "--layers", "10", "--steps", "40", "--seed", "3",
+    "ripple", "--size", "24x12", "--layers", "10", "--steps", "40", "--seed", "3",
 ];
 
 #[test]
@@ -59,8 +59,6 @@ fn only_the_fields_asked_for_are_written_as_npy() {
     let mut args = SMALL.to_vec();
     args.extend([
         "--quiet",
-        "--format",
-        "npy",
         "--fields",
         "elevation,porosity",
         "--out",
@@ -68,7 +66,7 @@ fn only_the_fields_asked_for_are_written_as_npy() {
     ]);
     let o = cellsurf(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(tmp("b_elevation.npy").exists());
+    assert!(tmp("b.npy").exists());
     assert!(tmp("b_porosity.npy").exists());
     assert!(!tmp("b_impedance.npy").exists());
     let side = std::fs::read_to_string(tmp("b.json")).unwrap();
@@ -87,7 +85,7 @@ fn scene_file_and_bad_input() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("currnt_speed"));
     let o = cellsurf(&["ripple", "--avalanche-angle", "95"]);
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("avalanche_angle"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--avalanche-angle = 95"));
     // A negative value reaches the range check, which names the parameter.
     let o = cellsurf(&["ripple", "--d50", "-1"]);
     assert!(!o.status.success());
@@ -127,9 +125,9 @@ fn outputs_are_checked_before_the_run() {
         e.contains("--out /nonexistent-dir/x.nc: the folder does not exist"),
         "{e}"
     );
-    let o = cellsurf(&["ripple", "--mode", "2d", "--ny", "5", "--steps", "1"]);
+    let o = cellsurf(&["ripple", "--mode", "2d", "--size", "128x5", "--steps", "1"]);
     assert!(!o.status.success());
     let e = String::from_utf8_lossy(&o.stderr);
-    assert!(e.contains("ny = 5 is out of range"), "{e}");
+    assert!(e.contains("--size = 128x5 is out of range"), "{e}");
     assert!(!e.contains("panicked"), "{e}");
 }

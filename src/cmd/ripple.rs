@@ -2,8 +2,8 @@
 //! the volume as NetCDF-3 or `.npy` files; `--json` prints a summary.
 //!
 //! Parameters come from the defaults (the paper's Fig. 3 situation), then a `--scenario`
-//! TOML file (the same keys as the options, with underscores; unknown keys rejected), then the
-//! options given on the command line.
+//! TOML file (`model = "ripple"` and the same keys as the options, with underscores; unknown
+//! keys rejected), then the options given on the command line.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -12,6 +12,8 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
+
+use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -19,92 +21,104 @@ use cellsurf::ripple::{
 /// Options of `cellsurf ripple`. Negative numbers are read as values, so that the model's
 /// range checks (not the argument parser) report them with the valid range.
 #[derive(clap::Args)]
-#[command(allow_negative_numbers = true)]
+#[command(
+    allow_negative_numbers = true,
+    after_help = "Examples:\n  \
+        cellsurf ripple --out bed.nc                      # the paper's Fig. 3 situation\n  \
+        cellsurf ripple --size 64x32 --steps 2000 --out bed.npy --json\n  \
+        cellsurf ripple --mode 2d --size 400x1 --abstraction shadow --out section.npy\n  \
+        cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3"
+)]
 pub struct Args {
-    /// Scene file (TOML) with the same keys as the options (e.g. `current_angle = 30`).
+    /// Start from this scenario file (TOML, `model = "ripple"` and the same keys as the
+    /// options, e.g. `current_angle = 30`); options typed here override it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// 2d (one section along the current) or 3d [default 3d].
+    /// 2d (one section along the current) or 3d [default: 3d].
     #[arg(long)]
     mode: Option<Mode>,
-    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default slices].
+    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default: slices].
     #[arg(long)]
     abstraction: Option<Abstraction>,
-    /// Columns along x [default 128].
-    #[arg(long)]
+    /// Columns along x and y, NXxNY (NXx1 in 2d) [default: 128x64; NXx1 in 2d].
+    #[arg(long, value_name = "NXxNY")]
+    size: Option<Size>,
+    /// Old spelling of the x part of --size (kept for one release).
+    #[arg(long, hide = true)]
     nx: Option<usize>,
-    /// Columns along y [default 64; 1 in 2d].
-    #[arg(long)]
+    /// Old spelling of the y part of --size (kept for one release).
+    #[arg(long, hide = true)]
     ny: Option<usize>,
-    /// Mean initial sand thickness, automata per column [default 30].
+    /// Mean initial sand thickness, automata per column [default: 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// Horizontal bin size, m [default 0.005].
+    /// Horizontal bin size, m [default: 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
-    /// Layer thickness gd, m [default 0.0005].
+    /// Layer thickness gd, m [default: 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
-    /// Steps [default 10000].
-    #[arg(long)]
+    /// Steps (`1e4` accepted) [default: 10000].
+    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
     steps: Option<u64>,
-    /// Fraction of automata triggered per step [default 0.001].
+    /// Fraction of automata triggered per step [default: 0.001].
     #[arg(long)]
     activity: Option<f64>,
-    /// Median grain size, mm [default 0.2].
+    /// Median grain size, mm [default: 0.2].
     #[arg(long)]
     d50: Option<f64>,
-    /// Sorting sigma_phi, phi units, 0 to 2 [default 0.5].
+    /// Sorting sigma_phi, phi units, 0 to 2 [default: 0.5].
     #[arg(long)]
     sorting: Option<f64>,
-    /// Current direction, degrees counter-clockwise from +x; 0 or 180 in 2d [default 0].
+    /// Current direction, degrees counter-clockwise from +x; 0 or 180 in 2d [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
-    /// Current speed, m/s [default 0.5].
+    /// Current speed, m/s [default: 0.5].
     #[arg(long)]
     current_speed: Option<f64>,
-    /// Wave period, steps (0 = no wave) [default 0].
+    /// Wave period, steps (0 = no wave) [default: 0].
     #[arg(long)]
     wave_period: Option<f64>,
-    /// Wave orbital speed amplitude, m/s [default 0].
+    /// Wave orbital speed amplitude, m/s [default: 0].
     #[arg(long)]
     wave_amplitude: Option<f64>,
-    /// Avalanche angle alpha, degrees [default 32].
+    /// Avalanche angle alpha, degrees [default: 32].
     #[arg(long)]
     avalanche_angle: Option<f64>,
-    /// Stoss stability angle beta, degrees [default 7].
+    /// Stoss stability angle beta, degrees [default: 7].
     #[arg(long)]
     stoss_angle: Option<f64>,
-    /// Creep angle gamma, degrees [default 5].
+    /// Creep angle gamma, degrees [default: 5].
     #[arg(long)]
     creep_angle: Option<f64>,
-    /// Acoustic model: hamilton or apl-uw [default hamilton].
+    /// Acoustic model: hamilton or apl-uw [default: hamilton].
     #[arg(long)]
     acoustics: Option<AcousticModel>,
-    /// Seed of the random stream, 0 to 2^53 [default 1].
+    /// Seed of the random stream, 0 to 2^53 [default: 1].
     #[arg(long)]
     seed: Option<u64>,
-    /// Steps at which to keep the elevation (comma-separated; default: 0 and the last step).
+    /// Steps at which to keep the elevation, comma-separated [default: 0 and the last step].
     #[arg(long, value_delimiter = ',')]
     snapshots: Option<Vec<u64>>,
     /// Fields to write (comma-separated): elevation, grain_size, porosity, density,
     /// sound_speed, impedance [default: all; without porosity for apl-uw].
     #[arg(long, value_delimiter = ',')]
     fields: Option<Vec<Field>>,
-    /// Output format: netcdf or npy.
-    #[arg(long, default_value = "netcdf")]
-    format: Format,
-    /// Output file (.nc; for npy, the stem of the .npy files and the .json sidecar). Without
-    /// it nothing is written: the run is measured only (see --json).
+    /// Old spelling: netcdf or npy, with --out a file stem (kept for one release).
+    #[arg(long, hide = true)]
+    format: Option<Format>,
+    /// Output file; the extension picks the format: .nc (NetCDF-3, CF-style) or .npy
+    /// (NAME.npy the elevation snapshots, NAME_FIELD.npy each volume field, NAME.json the
+    /// parameters). Without it nothing is written: the run is measured only (see --json).
     #[arg(long, value_name = "FILE")]
-    out: Option<PathBuf>,
-    /// Print one JSON summary on stdout (no progress bar).
+    out: Vec<PathBuf>,
+    /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
     json: bool,
-    /// No progress bar.
+    /// No progress bar and no chatter on stderr.
     #[arg(long)]
     quiet: bool,
-    /// Print the parameters as a scene file and exit.
+    /// Print the run's scenario file (TOML) and exit.
     #[arg(long)]
     print_scenario: bool,
 }
@@ -113,13 +127,29 @@ fn params(a: &Args) -> Result<RippleParams> {
     let mut p = match &a.scenario {
         Some(path) => {
             let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
-            let p: RippleParams = toml::from_str(&text)
-                .map_err(|e| anyhow::anyhow!("scene file {}: {e}", path.display()))?;
+                .with_context(|| format!("cannot read --scenario {}", path.display()))?;
+            let mut t: toml::Table = text
+                .parse()
+                .with_context(|| format!("--scenario {} is not TOML", path.display()))?;
+            match t.remove("model") {
+                None => {}
+                Some(toml::Value::String(m)) if m == "ripple" => {}
+                Some(m) => bail!(
+                    "--scenario {} is a {m} scenario, not 'ripple': run `cellsurf {m} --scenario {}`",
+                    path.display(),
+                    path.display()
+                ),
+            }
+            let p: RippleParams = toml::Value::Table(t)
+                .try_into()
+                .map_err(|e| anyhow::anyhow!("in --scenario {}: {e}", path.display()))?;
             p
         }
         None => RippleParams::default(),
     };
+    if let Some(s) = a.size {
+        (p.nx, p.ny) = (s.w, s.h);
+    }
     macro_rules! set {
         ($($f:ident),+) => { $(if let Some(v) = a.$f.clone() { p.$f = v; })+ };
     }
@@ -146,9 +176,11 @@ fn params(a: &Args) -> Result<RippleParams> {
         seed
     );
     if p.mode == Mode::TwoD {
-        if let Some(ny) = a.ny.filter(|&n| n != 1) {
+        if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
+            let flag = conv::typed_flag("size").unwrap_or_else(|| "--size".into());
             bail!(
-                "ny = {ny} is out of range: expected 1 (or no --ny) in 2-D mode, a single section"
+                "{flag} = {}x{ny} is out of range: expected NXx1 in 2-D mode, a single section",
+                p.nx
             );
         }
         p.ny = 1;
@@ -159,11 +191,39 @@ fn params(a: &Args) -> Result<RippleParams> {
 
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
+    conv::synonyms(&[("nx", "size"), ("ny", "size")]);
+    conv::set_quiet(a.quiet);
     let p = params(&a)?;
     if a.print_scenario {
-        print!("{}", p.to_toml());
+        print!(
+            "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\nmodel = \"ripple\"\n{}",
+            cellsurf::ripple::VERSION,
+            p.to_toml()
+        );
         return Ok(());
     }
+    let outs = match a.format {
+        None => Outputs::new(&a.out, "ripple", &[ConvFormat::Nc, ConvFormat::Npy])?,
+        Some(f) => {
+            // Old spelling (one release): `--format npy --out STEM`, the extension replaced.
+            let fmt = match f {
+                Format::NetCdf => ConvFormat::Nc,
+                Format::Npy => ConvFormat::Npy,
+            };
+            let mut o = Outputs::default();
+            let path = a.out.first().map(|p| p.with_extension(fmt.ext()));
+            o.add_legacy(fmt, path.as_ref())?;
+            o
+        }
+    };
+    if outs.get(ConvFormat::Nc).is_some() && outs.get(ConvFormat::Npy).is_some() {
+        bail!("--out: one volume file per run (.nc or .npy)");
+    }
+    let (out, format) = match (outs.get(ConvFormat::Nc), outs.get(ConvFormat::Npy)) {
+        (Some(p), _) => (Some(p.to_path_buf()), Format::NetCdf),
+        (None, Some(p)) => (Some(p.to_path_buf()), Format::Npy),
+        _ => (None, Format::NetCdf),
+    };
     let mut fields: Vec<Field> = match &a.fields {
         Some(f) => f.clone(),
         None => Field::ALL
@@ -178,10 +238,7 @@ pub fn run(a: Args) -> Result<()> {
         seen.push(*f);
         new
     });
-    let spec = OutputSpec {
-        fields,
-        format: a.format,
-    };
+    let spec = OutputSpec { fields, format };
     spec.validate(p.acoustics)?;
     let times: Vec<u64> = match &a.snapshots {
         Some(t) => t.clone(),
@@ -194,7 +251,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
 
-    if let Some(out) = &a.out {
+    if let Some(out) = &out {
         cellsurf::engine::io::check_output("--out", out)?;
     }
 
@@ -223,7 +280,7 @@ pub fn run(a: Args) -> Result<()> {
     let elapsed = start.elapsed().as_secs_f64();
 
     let mut written = Vec::new();
-    if let Some(out) = &a.out {
+    if let Some(out) = &out {
         match spec.format {
             Format::NetCdf => {
                 write_netcdf(out, &r, &snaps, &spec)?;
@@ -231,6 +288,9 @@ pub fn run(a: Args) -> Result<()> {
             }
             Format::Npy => written.extend(write_npy(out, &r, &snaps, &spec)?),
         }
+    }
+    for w in &written {
+        conv::wrote(w);
     }
     let an = Analysis::of(&r);
     let s = r.stats();
@@ -242,11 +302,10 @@ pub fn run(a: Args) -> Result<()> {
                 serde_json::Value::Null
             }
         };
-        let v = serde_json::json!({
+        let own = serde_json::json!({
             "steps": s.steps,
             "automata": r.automata(),
             "activations": s.activations,
-            "elapsed_s": elapsed,
             "wavelength_m": num(an.wavelength_m),
             "crest_normal_deg": num(an.crest_normal_deg),
             "height_m": num(an.height_m),
@@ -265,11 +324,11 @@ pub fn run(a: Args) -> Result<()> {
             "avalanches": s.avalanches,
             "creeps": s.creeps,
             "bytes_per_automaton": r.bytes_per_automaton(),
-            "files": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         });
+        let v = conv::envelope("ripple", &p, elapsed, own)?;
         println!("{}", serde_json::to_string(&v)?);
-    } else if !a.quiet {
-        eprintln!(
+    } else {
+        println!(
             "ripple: {} steps, {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
             s.steps,
             r.automata(),
@@ -285,9 +344,6 @@ pub fn run(a: Args) -> Result<()> {
             an.d50_trough_mm,
             r.mass_change()
         );
-        for w in &written {
-            eprintln!("wrote {}", w.display());
-        }
     }
     Ok(())
 }

@@ -493,8 +493,9 @@ pub fn json_string(s: &str) -> String {
     o
 }
 
-/// The `.npy` files of a run: `STEM_FIELD.npy` next to `out` (its extension dropped) and the
-/// sidecar `STEM.json` (parameters, version, shapes, units). Returns the files written.
+/// The `.npy` files of a run, next to `out` with its extension dropped: `STEM.npy` the
+/// elevation snapshots, `STEM_FIELD.npy` each volume field, and the sidecar `STEM.json`
+/// (parameters, version, shapes, units). Returns the files written.
 pub fn write_npy(
     out: &Path,
     r: &Ripple,
@@ -521,7 +522,11 @@ pub fn write_npy(
             let nz = volume_levels(r);
             (vec![nz, ny, nx], volume_field(r, f, f32::NAN))
         };
-        let path = file(&format!("_{}.npy", f.name()));
+        let path = if f == Field::Elevation {
+            file(".npy")
+        } else {
+            file(&format!("_{}.npy", f.name()))
+        };
         crate::engine::io::write_atomic(&path, &npy_bytes(&shape, &data))
             .map_err(|e| io_err(&path, e))?;
         let (units, long) = f.meta();
