@@ -534,21 +534,23 @@ pub fn is_temporary(p: &Path) -> bool {
         .is_some_and(|n| n.starts_with('.') && n.contains(".tmp-"))
 }
 
-/// Removes the temporaries of the chunk file `chunk` left by killed writers (any PID).
-pub fn remove_temporaries_of(chunk: &Path) {
-    let (Some(dir), Some(name)) = (chunk.parent(), chunk.file_name()) else {
-        return;
-    };
-    let prefix = format!(".{}.tmp-", name.to_string_lossy());
-    let me = format!("{prefix}{}", std::process::id());
+/// Removes the temporary files `.NAME.tmp-PID` in folder `dir` left by killed writers (any
+/// other process) for the file names `NAME` that `mine` accepts; returns how many.
+pub fn remove_temporaries_in(dir: &Path, mine: impl Fn(&str) -> bool) -> usize {
+    let me = format!(".tmp-{}", std::process::id());
+    let mut n = 0;
     if let Ok(rd) = std::fs::read_dir(dir) {
         for e in rd.flatten() {
-            let n = e.file_name().to_string_lossy().into_owned();
-            if n.starts_with(&prefix) && n != me {
-                let _ = std::fs::remove_file(e.path());
+            let f = e.file_name().to_string_lossy().into_owned();
+            let Some((name, _)) = f.strip_prefix('.').and_then(|r| r.rsplit_once(".tmp-")) else {
+                continue;
+            };
+            if !f.ends_with(&me) && mine(name) && std::fs::remove_file(e.path()).is_ok() {
+                n += 1;
             }
         }
     }
+    n
 }
 
 /// Attributes from `(name, value)` pairs of strings.
@@ -612,7 +614,8 @@ mod tests {
         let t = p.parent().unwrap().join(".0.tmp-999999");
         std::fs::write(&t, b"x").unwrap();
         assert_eq!(o.stale_temporaries(), vec![t.clone()]);
-        remove_temporaries_of(&p);
+        assert_eq!(remove_temporaries_in(p.parent().unwrap(), |n| n == "1"), 0);
+        assert_eq!(remove_temporaries_in(p.parent().unwrap(), |n| n == "0"), 1);
         assert!(!t.exists());
         std::fs::remove_dir_all(d.parent().unwrap()).unwrap();
     }

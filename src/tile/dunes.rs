@@ -241,21 +241,27 @@ impl RowSource for RippledDunes {
         self.mosaic.tile_size()
     }
     fn fill_row(&self, y: usize, out: &mut [f32]) {
+        self.fill_span(y, 0, out);
+    }
+    fn fill_span(&self, y: usize, x0: usize, out: &mut [f32]) {
         let ay = self.anchor.1 as i64;
         let j = (y as i64).div_euclid(ay);
-        let n = self.anchors.0 + 1;
+        let ax = self.anchor.0 as i64;
+        // the anchors round the span: columns i0 ..= i1 + 1
+        let i0 = (x0 as i64).div_euclid(ax);
+        let i1 = ((x0 + out.len()).max(1) as i64 - 1).div_euclid(ax);
         // the rotations of the two anchor rows round this row, once per row
         let rows: Vec<Vec<(f64, f64)>> = (0..2)
             .map(|dj| {
-                (0..n as i64)
+                (i0..=i1 + 1)
                     .map(|i| self.anchor_rotation(i, j + dj))
                     .collect()
             })
             .collect();
-        let ax = self.anchor.0 as i64;
         let yy = y as f64 * self.dx;
-        for (x, o) in out.iter_mut().enumerate() {
-            let i = (x as i64).div_euclid(ax) as usize;
+        for (k, o) in out.iter_mut().enumerate() {
+            let x = x0 + k;
+            let i = ((x as i64).div_euclid(ax) - i0) as usize;
             let r = self.ripple(x as i64, y as i64, |di, dj| rows[dj][i + di]);
             *o = (self.dunes.height(x as f64 * self.dx, yy) + r) as f32;
         }
