@@ -384,7 +384,7 @@ impl Outputs {
 
 /// Keys of the argument structure that are about input and output, not the model: never
 /// read from nor written to a scenario file.
-pub const IO_KEYS: [&str; 9] = [
+pub const IO_KEYS: [&str; 14] = [
     "scenario",
     "print_scenario",
     "out",
@@ -394,6 +394,11 @@ pub const IO_KEYS: [&str; 9] = [
     "npy",
     "gif_frames",
     "threads",
+    "part",
+    "init",
+    "check",
+    "chunk_tiles",
+    "dry_run",
 ];
 
 fn is_io(key: &str) -> bool {

@@ -1,8 +1,11 @@
 //! `cellsurf tile`: builds a large surface as a mosaic of toroidal ripple tiles
 //! ([`cellsurf::tile`]), from ripple NetCDF files (`--tile`, repeatable) and/or tiles generated
 //! in-process (`--generate`), optionally with fractal rippled dunes (`--dunes`), and streams it
-//! row by row to NetCDF-3 or `.npy` (`--out`). Without `--out` it only measures the seams and
-//! slopes. `--dry-run` prints the size and the disk space the output would take, and stops.
+//! row by row to NetCDF-3 or `.npy` (`--out`), or chunk by chunk to a Zarr v3 store
+//! (`--out X.zarr`; `--part i/N` writes one share of the chunks, `--init` the metadata alone,
+//! `--check STORE` reports missing and damaged chunks). Without `--out` it only measures the
+//! seams and slopes. `--dry-run` prints the size and the disk space the output would take, and
+//! stops.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -18,6 +21,7 @@ use super::conv::{self, Format, Outputs, Size};
 use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
+use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::{
     ANGLE_OF_REPOSE_DEG, Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter,
     SeamStats, StreamFormat, StreamSpec, Tile,
@@ -119,14 +123,30 @@ pub struct Args {
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
     #[arg(long)]
     dune_grid: Option<usize>,
-    /// Output file; the extension picks the format: .nc (NetCDF-3) or .npy (NAME.npy the
-    /// elevation, NAME_FIELD.npy the volume, NAME.json the parameters). Without --out nothing
-    /// is written: the rows are computed and only the seams and slopes measured.
+    /// Output file; the extension picks the format: .nc (NetCDF-3), .npy (NAME.npy the
+    /// elevation, NAME_FIELD.npy the volume, NAME.json the parameters) or .zarr (a Zarr v3
+    /// store, a folder: chunks of whole tiles, zstd). Without --out nothing is written: the
+    /// rows are computed and only the seams and slopes measured.
     #[arg(long, value_name = "FILE")]
     out: Vec<PathBuf>,
     /// Old spelling: netcdf or npy, with --out a file stem (kept for one release).
     #[arg(long, hide = true)]
     format: Option<String>,
+    /// --out X.zarr: write only part i of N of the chunks (i in 0..N-1); parts may run at once,
+    /// in any order, on any machines sharing the store, and a re-run finishes a killed part.
+    #[arg(long, value_name = "i/N")]
+    part: Option<String>,
+    /// --out X.zarr: tiles per chunk along x and y, KXxKY [default: chunks of about 2^20
+    /// values (4 MB), at least one tile].
+    #[arg(long, value_name = "KXxKY")]
+    chunk_tiles: Option<String>,
+    /// --out X.zarr: write the store's metadata only (the parts then check it).
+    #[arg(long)]
+    init: bool,
+    /// Report the missing and damaged chunks and stale temporary files of a Zarr store, and
+    /// exit non-zero when it is incomplete (with --part i/N: the parts to re-run, of N).
+    #[arg(long, value_name = "STORE.zarr", conflicts_with = "out")]
+    check: Option<PathBuf>,
     /// Seed of the patch choice and the dune synthesis (and of --generate without --seeds).
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -307,9 +327,16 @@ pub fn run(a: Args) -> Result<()> {
     }
     let start = Instant::now();
     let quiet = a.quiet || a.json;
+    let part: Option<Part> = match &a.part {
+        Some(p) => Some(p.parse()?),
+        None => None,
+    };
+    if let Some(store) = &a.check {
+        return check(store, part, a.json);
+    }
     let choose: Choose = a.choose.parse()?;
     let outs = match &a.format {
-        None => Outputs::new(&a.out, "tile", &[Format::Nc, Format::Npy])?,
+        None => Outputs::new(&a.out, "tile", &[Format::Nc, Format::Npy, Format::Zarr])?,
         Some(f) => {
             // Old spelling (one release): `--format npy --out STEM`, the extension replaced.
             let fmt = match f.as_str() {
@@ -326,18 +353,44 @@ pub fn run(a: Args) -> Result<()> {
     let out: Option<PathBuf> = outs
         .get(Format::Nc)
         .or(outs.get(Format::Npy))
+        .or(outs.get(Format::Zarr))
         .map(|p| p.to_path_buf());
-    if outs.get(Format::Nc).is_some() && outs.get(Format::Npy).is_some() {
-        bail!("--out: one mosaic file per run (.nc or .npy)");
+    let given = [Format::Nc, Format::Npy, Format::Zarr]
+        .iter()
+        .filter(|f| outs.get(**f).is_some())
+        .count();
+    if given > 1 {
+        bail!("--out: one mosaic per run (.nc, .npy or .zarr)");
     }
+    let zarr = outs.get(Format::Zarr).is_some();
     let format = if outs.get(Format::Npy).is_some() {
         StreamFormat::Npy
     } else {
         StreamFormat::NetCdf
     };
     if let Some(out) = &out {
-        cellsurf::engine::io::check_output("--out", out)?;
+        if zarr {
+            check_store_path("--out", out)?;
+        } else {
+            cellsurf::engine::io::check_output("--out", out)?;
+        }
     }
+    if !zarr && (part.is_some() || a.init || a.chunk_tiles.is_some()) {
+        bail!(
+            "{} needs --out STORE.zarr (a Zarr store; NetCDF and npy files are written by one process)",
+            if a.init {
+                "--init"
+            } else if part.is_some() {
+                "--part"
+            } else {
+                "--chunk-tiles"
+            }
+        );
+    }
+    let chunk_tiles = match &a.chunk_tiles {
+        Some(t) => Some(parse_pair::<usize>("chunk-tiles", t, "8x8")?),
+        None => None,
+    };
     if !a.dunes {
         for id in [
             "hurst",
@@ -562,6 +615,16 @@ pub fn run(a: Args) -> Result<()> {
         }
         return Ok(());
     }
+    if let (true, Some(out)) = (zarr, &out) {
+        let o = StoreOpts {
+            part,
+            tiles: chunk_tiles,
+            init: a.init,
+            json: a.json,
+            quiet,
+        };
+        return write_store(out, src, &spec, &o, &summary, &envelope);
+    }
     let bar = bar(h as u64, "tile rows", quiet);
     let t0 = Instant::now();
     let (seams, bytes, files) = match &out {
@@ -629,6 +692,174 @@ pub fn run(a: Args) -> Result<()> {
             human(bytes),
             h as f64 / elapsed.max(1e-9),
             bytes as f64 / 1e6 / elapsed.max(1e-9)
+        );
+    }
+    Ok(())
+}
+
+/// A Zarr store's folder: its parent exists, and it is absent or a folder (not a link).
+fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "{option} {}: the folder {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => bail!(
+            "{option} {}: is a symbolic link; give the folder it points to",
+            path.display()
+        ),
+        Ok(m) if !m.is_dir() => bail!(
+            "{option} {}: exists and is not a folder (a Zarr store is a folder)",
+            path.display()
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// `tile --check STORE`: prints the report; an error (non-zero exit) when incomplete.
+fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> {
+    if !store.is_dir() {
+        bail!(
+            "--check {}: not a folder (a Zarr store is a folder)",
+            store.display()
+        );
+    }
+    let c = check_zarr(store).with_context(|| format!("--check {}", store.display()))?;
+    let rerun = part.map(|p| c.parts_to_rerun(p.count));
+    if json {
+        let mut v = serde_json::to_value(&c)?;
+        v["missing"] = c.missing().into();
+        v["damaged"] = c.damaged().into();
+        if let Some(r) = &rerun {
+            v["parts_to_rerun"] = serde_json::json!(r);
+        }
+        println!("{}", serde_json::to_string(&v)?);
+    } else {
+        for arr in &c.arrays {
+            eprintln!(
+                "{}: {} of {} chunks complete, {} missing, {} damaged",
+                arr.name,
+                arr.complete,
+                arr.chunks,
+                arr.missing.len(),
+                arr.damaged.len()
+            );
+            for (idx, why) in arr.damaged.iter().take(10) {
+                eprintln!("  damaged chunk {idx:?}: {why}");
+            }
+            for idx in arr.missing.iter().take(10) {
+                eprintln!("  missing chunk {idx:?}");
+            }
+        }
+        for t in &c.stale_temporaries {
+            eprintln!("stale temporary file (a killed writer): {}", t.display());
+        }
+        if let (Some(r), Some(p)) = (&rerun, part) {
+            eprintln!("parts to re-run (of {}): {r:?}", p.count);
+        }
+    }
+    if !c.complete {
+        bail!(
+            "{}: incomplete: {} missing and {} damaged chunks; re-run the parts that own them",
+            store.display(),
+            c.missing(),
+            c.damaged()
+        );
+    }
+    if !json {
+        eprintln!("{}: complete", store.display());
+    }
+    Ok(())
+}
+
+/// How to write a Zarr store.
+struct StoreOpts {
+    part: Option<Part>,
+    tiles: Option<(usize, usize)>,
+    init: bool,
+    json: bool,
+    quiet: bool,
+}
+
+/// Writes a Zarr store (all of it, one part, or its metadata with `init`).
+fn write_store(
+    out: &std::path::Path,
+    src: &dyn RowSource,
+    spec: &StreamSpec,
+    o: &StoreOpts,
+    summary: &dyn Fn(Option<&SeamStats>, u64, f64) -> serde_json::Value,
+    envelope: &dyn Fn(serde_json::Value) -> Result<String>,
+) -> Result<()> {
+    let (json, quiet) = (o.json, o.quiet);
+    let t0 = Instant::now();
+    if o.init {
+        let (_, layout) = init_zarr(out, src, spec, o.tiles)?;
+        let el = t0.elapsed().as_secs_f64();
+        if json {
+            conv::wrote(out);
+            let mut v = summary(None, 0, el);
+            v["zarr"] = serde_json::json!({ "layout": layout, "init": true });
+            println!("{}", envelope(v)?);
+        } else {
+            conv::wrote(out);
+            println!(
+                "initialised {}: {} x {} chunks of {} x {} bins ({} x {} tiles)",
+                out.display(),
+                layout.grid.0,
+                layout.grid.1,
+                layout.chunk.0,
+                layout.chunk.1,
+                layout.tiles.0,
+                layout.tiles.1
+            );
+        }
+        return Ok(());
+    }
+    let part = o.part.unwrap_or(Part::WHOLE);
+    let levels = if spec.volume.is_some() {
+        src.levels()
+    } else {
+        0
+    };
+    let layout = match o.tiles {
+        Some(t) => ZarrLayout::with_tiles(src, levels, t)?,
+        None => ZarrLayout::new(src, levels),
+    };
+    let bar = bar(
+        part.range(layout.chunks()).len() as u64,
+        "zarr chunks",
+        quiet,
+    );
+    let rep = write_zarr(out, src, spec, o.tiles, part, |d| {
+        bar.set_position(d as u64)
+    })?;
+    bar.finish_and_clear();
+    let el = rep.elapsed_s;
+    if json {
+        conv::wrote(out);
+        let mut v = summary(None, rep.bytes, el);
+        v["zarr"] = serde_json::to_value(&rep)?;
+        println!("{}", envelope(v)?);
+    } else {
+        conv::wrote(out);
+        println!(
+            "{} part {}/{}: {} of {} chunks written ({} kept), {} of values as {} in {el:.2} s ({:.1} MB/s of values)",
+            out.display(),
+            part.index,
+            part.count,
+            rep.written,
+            rep.owned,
+            rep.kept,
+            human(rep.bytes),
+            human(rep.stored_bytes),
+            rep.bytes as f64 / 1e6 / el.max(1e-9)
         );
     }
     Ok(())

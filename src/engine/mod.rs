@@ -15,6 +15,8 @@
 //! - [`wrap`]: periodic indices and a floor without a library call, for hot loops.
 //! - [`io`]: [`write_atomic`](io::write_atomic) and the output checks: no reader ever sees a
 //!   partial file.
+//! - `zarr` (feature `zarr`): Zarr v3 stores written chunk by chunk by independent processes
+//!   (atomic chunks, metadata written by whichever writer comes first, checked by the others).
 //!
 //! The engine imports nothing else of the crate; everything else imports it.
 //!
@@ -42,6 +44,8 @@ pub mod stats;
 pub mod sumtree;
 pub mod surface;
 pub mod wrap;
+#[cfg(feature = "zarr")]
+pub mod zarr;
 
 /// The crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -260,6 +260,31 @@ impl RowSource for RippledDunes {
         }
         self.fill_row_by::<false>(y, out);
     }
+    /// Bins `x0 .. x0 + out.len()` of row `y`, bin by bin from [`RippledDunes::value`]'s
+    /// definition (the same bits as [`RowSource::fill_row`]): for stores written chunk by
+    /// chunk, where a span is a small part of a row.
+    fn fill_span(&self, y: usize, x0: usize, out: &mut [f32]) {
+        let ay = self.anchor.1 as i64;
+        let j = (y as i64).div_euclid(ay);
+        let ax = self.anchor.0 as i64;
+        // the anchors round the span: columns i0 ..= i1 + 1
+        let i0 = (x0 as i64).div_euclid(ax);
+        let i1 = ((x0 + out.len()).max(1) as i64 - 1).div_euclid(ax);
+        let rows: Vec<Vec<(f64, f64)>> = (0..2)
+            .map(|dj| {
+                (i0..=i1 + 1)
+                    .map(|i| self.anchor_rotation(i, j + dj))
+                    .collect()
+            })
+            .collect();
+        let yy = y as f64 * self.dx;
+        for (k, o) in out.iter_mut().enumerate() {
+            let x = x0 + k;
+            let i = ((x as i64).div_euclid(ax) - i0) as usize;
+            let r = self.ripple(x as i64, y as i64, |di, dj| rows[dj][i + di]);
+            *o = (self.dunes.height(x as f64 * self.dx, yy) + r) as f32;
+        }
+    }
 }
 
 impl RippledDunes {

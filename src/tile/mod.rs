@@ -23,6 +23,9 @@
 //! - [`RowSource`] and the streaming writers ([`stream`]): a surface of any size written row by
 //!   row (NetCDF-3 64-bit offset with `y` as the record dimension, or `.npy`), memory
 //!   independent of the number of rows.
+//! - [`ZarrLayout`](zarr::ZarrLayout), [`Part`](zarr::Part) and the Zarr writer and checker
+//!   (`zarr`, feature `zarr`): a surface as a chunked Zarr v3 store written by one process or
+//!   by `N` independent parts, chunks of whole tiles.
 //! - `figures` (feature `plot`): `ripple_fig6_tiles` and `ripple_fig9_fractal_dunes`, listed in
 //!   [`FIGURES`].
 //!
@@ -52,6 +55,8 @@ pub mod mosaic;
 pub mod seam;
 pub mod stream;
 pub mod tileset;
+#[cfg(feature = "zarr")]
+pub mod zarr;
 
 pub use dunes::{DuneParams, RippledDunes};
 pub use fractal::{DuneField, FbmParams, Relief};

@@ -353,12 +353,15 @@ impl RowSource for Mosaic {
         (self.nx, self.ny)
     }
     fn fill_row(&self, y: usize, out: &mut [f32]) {
+        self.fill_span(y, 0, out);
+    }
+    fn fill_span(&self, y: usize, x0: usize, out: &mut [f32]) {
         // the same arithmetic as `value`, with the row's y terms and the column table hoisted
         let y = y % self.height();
         let (cj, cj2, v, oy) = Self::axis(y, self.ny, self.my, self.band);
         let (r1, r2) = (cj * self.mx, cj2 * self.mx);
         let base = v * self.nx;
-        for (o, &(ci, ci2, u, ox)) in out.iter_mut().zip(&self.columns) {
+        for (o, &(ci, ci2, u, ox)) in out.iter_mut().zip(&self.columns[x0..]) {
             let e = base + u as usize;
             let t = |r: usize, i: u32| self.elevations[self.offsets[r + i as usize] + e];
             *o = if ox == 0.0 && oy == 0.0 {
@@ -380,16 +383,20 @@ impl RowSource for Mosaic {
     /// the bin's own cell's tile (the tile with the largest blend weight), cut or extended
     /// (repeating its top automaton) to the blended surface height, rounded to whole layers.
     fn fill_volume_row(&self, y: usize, out: &mut [f32]) {
+        self.fill_volume_span(y, 0, out);
+    }
+    fn fill_volume_span(&self, y: usize, x0: usize, out: &mut [f32]) {
         let nz = self.levels();
-        let w = self.width();
         out.fill(f32::NAN);
-        if nz == 0 || out.len() < nz * w {
+        if nz == 0 {
             return;
         }
+        let w = out.len() / nz;
         let gd = self.tiles[0].layer_thickness;
         let yy = y % self.height();
         let (cj, v) = (yy / self.ny, yy % self.ny);
-        for x in 0..w {
+        for i in 0..w {
+            let x = x0 + i;
             let (ci, u) = (x / self.nx, x % self.nx);
             let t = &self.tiles[self.cell(ci, cj)];
             let Some(vol) = &t.volume else { continue };
@@ -401,7 +408,7 @@ impl RowSource for Mosaic {
             let top = ((self.value(x, y) as f64 / gd).round().max(0.0) as usize).min(nz);
             for k in 0..top {
                 let src = k.min(own.saturating_sub(1));
-                out[k * w + x] = if own == 0 {
+                out[k * w + i] = if own == 0 {
                     f32::NAN
                 } else {
                     vol.data[src * plane + e]

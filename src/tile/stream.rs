@@ -60,6 +60,30 @@ pub trait RowSource: Sync {
     fn fill_volume_row(&self, _y: usize, out: &mut [f32]) {
         out.fill(f32::NAN);
     }
+    /// Writes bins `x0 .. x0 + out.len()` of row `y` (within the row) into `out`: the values of
+    /// [`RowSource::fill_row`], for sources written chunk by chunk (a Zarr store). The default
+    /// computes the whole row.
+    fn fill_span(&self, y: usize, x0: usize, out: &mut [f32]) {
+        let mut row = vec![0.0f32; self.width()];
+        self.fill_row(y, &mut row);
+        out.copy_from_slice(&row[x0..x0 + out.len()]);
+    }
+    /// Writes the volume slab under bins `x0 .. x0 + n` of row `y` on `(z, x)` (`levels x n`
+    /// values, `n = out.len() / levels`) into `out`: the values of
+    /// [`RowSource::fill_volume_row`]. The default computes the whole slab.
+    fn fill_volume_span(&self, y: usize, x0: usize, out: &mut [f32]) {
+        let (nz, w) = (self.levels(), self.width());
+        if nz == 0 {
+            out.fill(f32::NAN);
+            return;
+        }
+        let n = out.len() / nz;
+        let mut slab = vec![f32::NAN; nz * w];
+        self.fill_volume_row(y, &mut slab);
+        for k in 0..nz {
+            out[k * n..(k + 1) * n].copy_from_slice(&slab[k * w + x0..k * w + x0 + n]);
+        }
+    }
 }
 
 /// Output format of the stream: the ripple output's [`Format`](crate::ripple::Format)
@@ -86,7 +110,7 @@ pub struct StreamSpec {
 
 impl StreamSpec {
     /// The units and long name of `elevation`.
-    fn elevation_meta(&self) -> (&'static str, &str) {
+    pub(crate) fn elevation_meta(&self) -> (&'static str, &str) {
         let (units, long) = Field::Elevation.meta();
         (units, self.elevation_long_name.as_deref().unwrap_or(long))
     }

@@ -1,0 +1,283 @@
+//! `cellsurf tile --out X.zarr` written by independent processes: four parts run at once give
+//! the single-process store byte for byte; a part killed mid-write leaves no half-written
+//! chunk, `--check` reports what is missing (and a damaged chunk), and re-running the part
+//! repairs the store; `--part` and `--chunk-tiles` errors name the flag, the value and the
+//! range.
+#![cfg(feature = "cli")]
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::cellsurf;
+
+fn tmp(name: &str) -> PathBuf {
+    let p = common::tmp_in("tile-zarr", name);
+    let _ = std::fs::remove_dir_all(&p);
+    p
+}
+
+/// Rippled dunes on 40 x 80 tiles of 64 x 32 bins (2560 x 2560 bins), chunks of 4 x 8 tiles
+/// (10 x 10 chunks): about a second of work.
+fn args(out: &Path) -> Vec<String> {
+    [
+        "tile",
+        "--generate",
+        "--nx",
+        "64",
+        "--ny",
+        "32",
+        "--layers",
+        "10",
+        "--steps",
+        "300",
+        "--mosaic",
+        "40x80",
+        "--dunes",
+        "--chunk-tiles",
+        "4x8",
+        "--seed",
+        "7",
+        "--quiet",
+        "--out",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .chain([out.display().to_string()])
+    .collect()
+}
+
+fn run(out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut a = args(out);
+    a.extend(extra.iter().map(|s| s.to_string()));
+    let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+    cellsurf(&refs)
+}
+
+fn spawn(out: &Path, extra: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args(args(out))
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start cellsurf")
+}
+
+/// Every file of a store (relative path -> bytes).
+fn files(root: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(root).unwrap().display().to_string();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+fn check(store: &Path, extra: &[&str]) -> (bool, serde_json::Value) {
+    let mut a = vec!["tile", "--check"];
+    let s = store.display().to_string();
+    a.push(&s);
+    a.extend_from_slice(extra);
+    a.push("--json");
+    let o = cellsurf(&a);
+    let v = serde_json::from_slice(&o.stdout).unwrap_or_else(|_| {
+        panic!(
+            "--check printed no JSON: {}",
+            String::from_utf8_lossy(&o.stderr)
+        )
+    });
+    (o.status.success(), v)
+}
+
+fn assert_same_store(a: &Path, b: &Path) {
+    let (fa, fb) = (files(a), files(b));
+    assert_eq!(
+        fa.keys().collect::<Vec<_>>(),
+        fb.keys().collect::<Vec<_>>(),
+        "the same files"
+    );
+    for (k, v) in &fa {
+        assert!(v == &fb[k], "{k} differs between {a:?} and {b:?}");
+    }
+}
+
+#[test]
+fn four_parts_at_once_equal_one_process_byte_for_byte() {
+    let one = tmp("one.zarr");
+    let o = run(&one, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (ok, v) = check(&one, &[]);
+    assert!(ok, "{v}");
+    let chunks = v["arrays"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|a| a["name"] == "elevation")
+        .unwrap()["chunks"]
+        .as_u64()
+        .unwrap();
+    assert_eq!(chunks, 100);
+
+    let four = tmp("four.zarr");
+    let kids: Vec<_> = (0..4)
+        .map(|i| spawn(&four, &["--part", &format!("{i}/4")]))
+        .collect();
+    for k in kids {
+        let o = k.wait_with_output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert_same_store(&one, &four);
+    let (ok, _) = check(&four, &[]);
+    assert!(ok);
+    // a re-run of a finished part keeps every chunk (and the bytes)
+    let o = run(&four, &["--part", "2/4", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["zarr"]["written"], 0, "{v}");
+    assert_eq!(v["zarr"]["kept"], 25, "{v}");
+    assert_same_store(&one, &four);
+
+    // a part with other parameters is refused, naming what differs
+    let mut a = args(&four);
+    let seed = a.iter().position(|s| s == "--seed").unwrap();
+    a[seed + 1] = "8".into();
+    a.extend(["--part".into(), "1/4".into()]);
+    let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+    let o = cellsurf(&refs);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("other parameters") && err.contains("param_seed"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&one).unwrap();
+    std::fs::remove_dir_all(&four).unwrap();
+}
+
+#[test]
+fn a_killed_part_is_reported_and_a_rerun_repairs_it() {
+    let whole = tmp("whole.zarr");
+    assert!(run(&whole, &[]).status.success());
+
+    let store = tmp("killed.zarr");
+    assert!(run(&store, &["--init"]).status.success());
+    let (ok, v) = check(&store, &["--part", "0/2"]);
+    assert!(!ok, "an initialised store is incomplete");
+    assert_eq!(v["missing"], 100 + 10 + 10, "{v}");
+    // part 0 of 2 runs and is killed once some of its chunks are there
+    let mut child = spawn(&store, &["--part", "0/2"]);
+    let c = store.join("elevation/c");
+    let t0 = Instant::now();
+    let count = |d: &Path| {
+        std::fs::read_dir(d).map_or(0, |rd| {
+            rd.flatten()
+                .map(|e| {
+                    std::fs::read_dir(e.path()).map_or(0, |r| {
+                        r.flatten()
+                            .filter(|f| !f.file_name().to_string_lossy().starts_with('.'))
+                            .count()
+                    })
+                })
+                .sum::<usize>()
+        })
+    };
+    while count(&c) < 5 && t0.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done = count(&c);
+    assert!(
+        (5..50).contains(&done),
+        "killed with {done} of part 0's 50 chunks written"
+    );
+    // every chunk there is whole (atomic writes); the others are reported missing
+    let (ok, v) = check(&store, &["--part", "0/2"]);
+    assert!(!ok);
+    assert_eq!(v["damaged"], 0, "{v}");
+    let missing = v["missing"].as_u64().unwrap();
+    assert!(missing >= 50, "{v}");
+    assert_eq!(v["parts_to_rerun"], serde_json::json!([0, 1]), "{v}");
+    // a damaged chunk (a flipped byte) is reported
+    let victim = (0..10)
+        .flat_map(|j| (0..10).map(move |i| (j, i)))
+        .map(|(j, i)| store.join(format!("elevation/c/{j}/{i}")))
+        .find(|p| p.exists())
+        .unwrap();
+    let mut b = std::fs::read(&victim).unwrap();
+    let n = b.len();
+    b[n / 2] ^= 0x5a;
+    std::fs::write(&victim, &b).unwrap();
+    let (_, v) = check(&store, &[]);
+    assert_eq!(v["damaged"], 1, "{v}");
+    // a stale temporary file from a killed writer is reported
+    let stale = store.join("elevation/c/0/.1.tmp-4000000");
+    std::fs::write(&stale, b"half").unwrap();
+    let (_, v) = check(&store, &[]);
+    assert_eq!(v["stale_temporaries"].as_array().unwrap().len(), 1, "{v}");
+    // re-running the parts repairs the store: the same bytes as one process, no temporaries
+    for p in ["0/2", "1/2"] {
+        let o = run(&store, &["--part", p]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let (ok, v) = check(&store, &[]);
+    assert!(ok, "{v}");
+    assert!(!stale.exists());
+    assert_same_store(&whole, &store);
+    std::fs::remove_dir_all(&whole).unwrap();
+    std::fs::remove_dir_all(&store).unwrap();
+}
+
+#[test]
+fn bad_part_and_chunk_flags_name_the_flag_value_and_range() {
+    let out = tmp("bad.zarr");
+    for (flag, value, want) in [
+        ("--part", "4/4", "0..=3"),
+        ("--part", "1/0", "1..=1000000"),
+        ("--part", "x", "i/N"),
+        ("--chunk-tiles", "0x2", "1..=40"),
+        ("--chunk-tiles", "41x1", "1..=40"),
+    ] {
+        let o = cellsurf(&[
+            "tile",
+            "--generate",
+            "--nx",
+            "64",
+            "--ny",
+            "32",
+            "--steps",
+            "10",
+            "--mosaic",
+            "40x80",
+            "--out",
+            &out.display().to_string(),
+            flag,
+            value,
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{flag} {value} accepted");
+        assert!(
+            err.contains(flag) && err.contains(value) && err.contains(want),
+            "{flag} {value}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let o = cellsurf(&["tile", "--generate", "--part", "0/2", "--out", "x.nc"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--part needs --out STORE.zarr"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -1,0 +1,116 @@
+//! The Zarr store that `cellsurf tile --out X.zarr` writes, read by the Python tools it is
+//! made for: `xarray.open_zarr` gives a Dataset with the named dimensions, CF units and the
+//! parameters; its values equal the `.npy` output of the same mosaic; Dask reduces it chunk by
+//! chunk (one Dask block per Zarr chunk) to numpy's statistics.
+//!
+//! The interpreter is `$CELLSURF_PYTHON` (`.ci/run` makes a virtual environment with numpy,
+//! zarr, xarray and dask and sets it), else `python3`. With `CELLSURF_SKIP_PYTHON=1` the test
+//! says so and passes without running; without it, a missing package fails the test.
+#![cfg(feature = "cli")]
+
+mod common;
+
+use std::process::Command;
+
+use common::cellsurf;
+
+const SCRIPT: &str = r#"
+import sys, warnings
+warnings.simplefilter("error")  # no fallback without consolidated metadata, no decoding warning
+import numpy as np, xarray as xr, dask
+store, npy, vol = sys.argv[1], sys.argv[2], sys.argv[3]
+ds = xr.open_zarr(store)
+assert ds.elevation.dims == ("y", "x"), ds.elevation.dims
+assert ds.impedance.dims == ("y", "z", "x"), ds.impedance.dims
+assert ds.elevation.attrs["units"] == "m"
+assert ds.impedance.attrs["units"] == "kg m-2 s-1", ds.impedance.attrs
+for c in "xyz":
+    assert ds[c].attrs["units"] == "m" and ds[c].attrs["axis"] == c.upper(), ds[c].attrs
+assert ds.attrs["Conventions"] == "CF-1.8" and ds.attrs["param_seed"] == 5, ds.attrs
+assert ds.attrs["cellsurf_version"]
+e, v = np.load(npy), np.load(vol)
+assert ds.elevation.shape == e.shape and ds.impedance.shape == v.shape
+assert np.array_equal(ds.elevation.values, e), "elevation differs from the npy output"
+assert np.array_equal(np.isnan(ds.impedance.values), np.isnan(v))
+assert np.array_equal(np.nan_to_num(ds.impedance.values), np.nan_to_num(v))
+dx = float(ds.attrs["bin_size_m"])
+assert np.allclose(ds.x.values, (np.arange(e.shape[1]) + 0.5) * dx)
+# Dask: one block per Zarr chunk, reduced block by block
+blocks = ds.elevation.data.numblocks
+zchunks = ds.elevation.encoding["chunks"]
+assert blocks == tuple(-(-n // c) for n, c in zip(e.shape, zchunks)), (blocks, zchunks)
+mean, std, top = dask.compute(ds.elevation.mean(), ds.elevation.std(), ds.impedance.max())
+assert abs(float(mean) - e.mean(dtype=np.float64)) < 1e-6 * abs(e.mean()), (float(mean), e.mean())
+assert abs(float(std) - e.std(dtype=np.float64)) < 1e-5 * e.std(), (float(std), e.std())
+assert float(top) == np.nanmax(v)
+print("ok", blocks, float(mean), float(std))
+"#;
+
+#[test]
+fn xarray_and_dask_read_the_tile_store() {
+    if std::env::var("CELLSURF_SKIP_PYTHON").is_ok_and(|v| v == "1") {
+        eprintln!(
+            "SKIPPED: CELLSURF_SKIP_PYTHON=1, the Zarr store is not checked with xarray and Dask"
+        );
+        return;
+    }
+    let dir = common::tmp_in("zarr-python", "x");
+    let dir = dir.parent().unwrap();
+    let store = dir.join("m.zarr");
+    let npy = dir.join("m.npy");
+    let _ = std::fs::remove_dir_all(&store);
+    let base = [
+        "tile",
+        "--generate",
+        "--nx",
+        "48",
+        "--ny",
+        "24",
+        "--layers",
+        "10",
+        "--steps",
+        "300",
+        "--seeds",
+        "5,6",
+        "--seed",
+        "5",
+        "--choose",
+        "patches",
+        "--mosaic",
+        "7x9",
+        "--volume",
+        "impedance",
+        "--quiet",
+    ];
+    for (out, extra) in [
+        (&store, ["--chunk-tiles", "3x4"]),
+        (&npy, ["--format", "npy"]),
+    ] {
+        let mut a = base.to_vec();
+        let o = out.display().to_string();
+        a.extend(["--out", &o]);
+        a.extend(extra);
+        let r = cellsurf(&a);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    let python = std::env::var("CELLSURF_PYTHON").unwrap_or_else(|_| "python3".into());
+    let out = Command::new(&python)
+        .arg("-c")
+        .arg(SCRIPT)
+        .arg(&store)
+        .arg(&npy)
+        .arg(dir.join("m_impedance.npy"))
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run {python} ({e}): set CELLSURF_PYTHON, or CELLSURF_SKIP_PYTHON=1")
+        });
+    assert!(
+        out.status.success(),
+        "{python} failed (numpy, zarr, xarray and dask are needed; .ci/run installs them; CELLSURF_SKIP_PYTHON=1 skips):\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("ok (3, 3)"), "{text}");
+    std::fs::remove_dir_all(&store).unwrap();
+}
