@@ -4,7 +4,8 @@
 //! chunk (one Dask block per Zarr chunk) to numpy's statistics.
 //!
 //! The interpreter is `$CELLSURF_PYTHON` (`.ci/run` makes a virtual environment with numpy,
-//! zarr, xarray and dask and sets it), else `python3`. With `CELLSURF_SKIP_PYTHON=1` the test
+//! zarr, xarray and dask and sets it), else `target/py-venv/bin/python` (the README's test
+//! command makes it), else `python3`. With `CELLSURF_SKIP_PYTHON=1` the test
 //! says so and passes without running; without it, a missing package fails the test.
 #![cfg(feature = "cli")]
 
@@ -93,7 +94,14 @@ fn xarray_and_dask_read_the_tile_store() {
         let r = cellsurf(&a);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     }
-    let python = std::env::var("CELLSURF_PYTHON").unwrap_or_else(|_| "python3".into());
+    let venv = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/py-venv/bin/python");
+    let python = std::env::var("CELLSURF_PYTHON").unwrap_or_else(|_| {
+        if venv.exists() {
+            venv.display().to_string()
+        } else {
+            "python3".into()
+        }
+    });
     let out = Command::new(&python)
         .arg("-c")
         .arg(SCRIPT)
