@@ -82,7 +82,10 @@ fn xarray_and_dask_read_the_tile_store() {
         "impedance",
         "--quiet",
     ];
-    for (out, extra) in [(&store, ["--chunk-tiles", "3x4"]), (&npy, ["--format", "npy"])] {
+    for (out, extra) in [
+        (&store, ["--chunk-tiles", "3x4"]),
+        (&npy, ["--format", "npy"]),
+    ] {
         let mut a = base.to_vec();
         let o = out.display().to_string();
         a.extend(["--out", &o]);

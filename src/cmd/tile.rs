@@ -18,8 +18,8 @@ use cellsurf::ripple::output::{Field, toml_pairs};
 use cellsurf::ripple::{RippleParams, VERSION};
 use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, write_stream};
-use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
+use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::{
     ANGLE_OF_REPOSE_DEG, Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter,
     SeamStats, StreamFormat, StreamSpec, Tile,
@@ -590,7 +590,8 @@ pub fn run(a: Args) -> Result<()> {
 
 /// Whether `path` names a Zarr store (extension `.zarr`).
 fn is_zarr(path: &std::path::Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
 }
 
 /// A Zarr store's folder: its parent exists, and it is absent or a folder (not a link).
@@ -600,7 +601,11 @@ fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
         _ => std::path::Path::new("."),
     };
     if !dir.is_dir() {
-        bail!("{option} {}: the folder {} does not exist", path.display(), dir.display());
+        bail!(
+            "{option} {}: the folder {} does not exist",
+            path.display(),
+            dir.display()
+        );
     }
     match std::fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => bail!(
@@ -618,7 +623,10 @@ fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
 /// `tile --check STORE`: prints the report; an error (non-zero exit) when incomplete.
 fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> {
     if !store.is_dir() {
-        bail!("--check {}: not a folder (a Zarr store is a folder)", store.display());
+        bail!(
+            "--check {}: not a folder (a Zarr store is a folder)",
+            store.display()
+        );
     }
     let c = check_zarr(store).with_context(|| format!("--check {}", store.display()))?;
     let rerun = part.map(|p| c.parts_to_rerun(p.count));
@@ -709,13 +717,23 @@ fn write_store(
         return Ok(());
     }
     let part = o.part.unwrap_or(Part::WHOLE);
-    let levels = if spec.volume.is_some() { src.levels() } else { 0 };
+    let levels = if spec.volume.is_some() {
+        src.levels()
+    } else {
+        0
+    };
     let layout = match o.tiles {
         Some(t) => ZarrLayout::with_tiles(src, levels, t)?,
         None => ZarrLayout::new(src, levels),
     };
-    let bar = bar(part.range(layout.chunks()).len() as u64, "zarr chunks", quiet);
-    let rep = write_zarr(out, src, spec, o.tiles, part, |d| bar.set_position(d as u64))?;
+    let bar = bar(
+        part.range(layout.chunks()).len() as u64,
+        "zarr chunks",
+        quiet,
+    );
+    let rep = write_zarr(out, src, spec, o.tiles, part, |d| {
+        bar.set_position(d as u64)
+    })?;
     bar.finish_and_clear();
     let el = rep.elapsed_s;
     if json {

@@ -327,7 +327,8 @@ impl Store {
             .attributes(attrs)
             .build(storage.clone(), "/")
             .map_err(|e| io(root.display(), e))?;
-        let mut gmeta = serde_json::to_value(group.metadata()).map_err(|e| io(root.display(), e))?;
+        let mut gmeta =
+            serde_json::to_value(group.metadata()).map_err(|e| io(root.display(), e))?;
         if let Value::Object(m) = &mut gmeta {
             m.insert(
                 "consolidated_metadata".into(),
@@ -360,7 +361,10 @@ impl Store {
         })?;
         let group: Value = serde_json::from_slice(&text).map_err(|e| io(root.display(), e))?;
         if group.get("zarr_format") != Some(&Value::from(3)) {
-            return Err(io(root.display(), "not a Zarr v3 store (zarr_format is not 3)"));
+            return Err(io(
+                root.display(),
+                "not a Zarr v3 store (zarr_format is not 3)",
+            ));
         }
         let storage = Arc::new(AtomicFsStore::new(root)?);
         let mut names: Vec<String> = match group

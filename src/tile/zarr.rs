@@ -76,10 +76,12 @@ impl FromStr for Part {
         if !(1..=1_000_000).contains(&n) {
             return Err(bad("i/N with N in 1..=1000000".into()));
         }
-        let i: usize = i
-            .trim()
-            .parse()
-            .map_err(|_| bad(format!("i/N with i a whole number in 0..N-1 (0..={})", n - 1)))?;
+        let i: usize = i.trim().parse().map_err(|_| {
+            bad(format!(
+                "i/N with i a whole number in 0..N-1 (0..={})",
+                n - 1
+            ))
+        })?;
         if i >= n {
             return Err(bad(format!("i/N with i in 0..N-1 (0..={})", n - 1)));
         }
@@ -429,65 +431,68 @@ pub fn write_zarr(
     if owned.contains(&0) {
         remove_temporaries_in(&path.join("z/c"), |n| n == "0");
     }
-    owned.clone().into_par_iter().try_for_each(|k| -> Result<(), TileError> {
-        let (ci, cj) = (k % layout.grid.0, k / layout.grid.0);
-        let (x0, y0) = (ci * cx, cj * cy);
-        let (nxs, nys) = (cx.min(w - x0), cy.min(h - y0));
-        let e_idx = [cj as u64, ci as u64];
-        let v_idx = [cj as u64, 0, ci as u64];
-        // the coordinate chunks go with the first row and column of chunks
-        let mut extra: Vec<(&str, u64, Vec<f64>)> = Vec::new();
-        if cj == 0 {
-            extra.push(("x", ci as u64, coords(x0, cx, w, dx)));
-        }
-        if ci == 0 {
-            extra.push(("y", cj as u64, coords(y0, cy, h, dx)));
-        }
-        if k == 0 && vol.is_some() {
-            extra.push(("z", 0, coords(0, nz, nz, src.layer_thickness())));
-        }
-        for (name, i, data) in &extra {
-            if store.chunk_state(name, &[*i]).map_err(zerr)? != ChunkState::Ok {
-                store.write_chunk_f64(name, &[*i], data).map_err(zerr)?;
+    owned
+        .clone()
+        .into_par_iter()
+        .try_for_each(|k| -> Result<(), TileError> {
+            let (ci, cj) = (k % layout.grid.0, k / layout.grid.0);
+            let (x0, y0) = (ci * cx, cj * cy);
+            let (nxs, nys) = (cx.min(w - x0), cy.min(h - y0));
+            let e_idx = [cj as u64, ci as u64];
+            let v_idx = [cj as u64, 0, ci as u64];
+            // the coordinate chunks go with the first row and column of chunks
+            let mut extra: Vec<(&str, u64, Vec<f64>)> = Vec::new();
+            if cj == 0 {
+                extra.push(("x", ci as u64, coords(x0, cx, w, dx)));
             }
-        }
-        let mut names = vec!["elevation"];
-        let mut idxs: Vec<&[u64]> = vec![&e_idx];
-        if let Some(v) = vol {
-            names.push(v);
-            idxs.push(&v_idx);
-        }
-        if !complete(&store, &names, &idxs)? {
-            let mut elev = vec![f32::NAN; cx * cy];
-            for r in 0..nys {
-                src.fill_span(y0 + r, x0, &mut elev[r * cx..r * cx + nxs]);
+            if ci == 0 {
+                extra.push(("y", cj as u64, coords(y0, cy, h, dx)));
             }
-            store
-                .write_chunk_f32("elevation", &e_idx, &elev)
-                .map_err(zerr)?;
-            drop(elev);
-            let mut n_values = nxs * nys;
-            if let Some(v) = vol {
-                let mut chunk = vec![f32::NAN; cy * nz * cx];
-                let mut slab = vec![f32::NAN; nz * nxs];
-                for r in 0..nys {
-                    src.fill_volume_span(y0 + r, x0, &mut slab);
-                    for z in 0..nz {
-                        let o = (r * nz + z) * cx;
-                        chunk[o..o + nxs].copy_from_slice(&slab[z * nxs..(z + 1) * nxs]);
-                    }
+            if k == 0 && vol.is_some() {
+                extra.push(("z", 0, coords(0, nz, nz, src.layer_thickness())));
+            }
+            for (name, i, data) in &extra {
+                if store.chunk_state(name, &[*i]).map_err(zerr)? != ChunkState::Ok {
+                    store.write_chunk_f64(name, &[*i], data).map_err(zerr)?;
                 }
-                store.write_chunk_f32(v, &v_idx, &chunk).map_err(zerr)?;
-                n_values += nxs * nys * nz;
             }
-            let s: u64 = names.iter().zip(&idxs).map(|(n, i)| size_of(n, i)).sum();
-            stored.fetch_add(s, Ordering::Relaxed);
-            values.fetch_add(4 * n_values as u64, Ordering::Relaxed);
-            written.fetch_add(1, Ordering::Relaxed);
-        }
-        progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-        Ok(())
-    })?;
+            let mut names = vec!["elevation"];
+            let mut idxs: Vec<&[u64]> = vec![&e_idx];
+            if let Some(v) = vol {
+                names.push(v);
+                idxs.push(&v_idx);
+            }
+            if !complete(&store, &names, &idxs)? {
+                let mut elev = vec![f32::NAN; cx * cy];
+                for r in 0..nys {
+                    src.fill_span(y0 + r, x0, &mut elev[r * cx..r * cx + nxs]);
+                }
+                store
+                    .write_chunk_f32("elevation", &e_idx, &elev)
+                    .map_err(zerr)?;
+                drop(elev);
+                let mut n_values = nxs * nys;
+                if let Some(v) = vol {
+                    let mut chunk = vec![f32::NAN; cy * nz * cx];
+                    let mut slab = vec![f32::NAN; nz * nxs];
+                    for r in 0..nys {
+                        src.fill_volume_span(y0 + r, x0, &mut slab);
+                        for z in 0..nz {
+                            let o = (r * nz + z) * cx;
+                            chunk[o..o + nxs].copy_from_slice(&slab[z * nxs..(z + 1) * nxs]);
+                        }
+                    }
+                    store.write_chunk_f32(v, &v_idx, &chunk).map_err(zerr)?;
+                    n_values += nxs * nys * nz;
+                }
+                let s: u64 = names.iter().zip(&idxs).map(|(n, i)| size_of(n, i)).sum();
+                stored.fetch_add(s, Ordering::Relaxed);
+                values.fetch_add(4 * n_values as u64, Ordering::Relaxed);
+                written.fetch_add(1, Ordering::Relaxed);
+            }
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            Ok(())
+        })?;
     let written = written.into_inner();
     Ok(ZarrReport {
         layout,
