@@ -49,12 +49,10 @@ pub fn make(f: &Figure, dir: &Path, remeasure: bool) -> Result<Vec<PathBuf>, Fig
         return f.make(dir);
     }
     let png = dir.join(format!("{}.png", f.name));
-    if !remeasure {
-        if let Some(t) = ChartTable::read(dir, f.name)? {
-            std::fs::create_dir_all(dir).map_err(PlotError::Io)?;
-            t.draw(&png)?;
-            return Ok(vec![png]);
-        }
+    if !remeasure && let Some(t) = ChartTable::read(dir, f.name)? {
+        std::fs::create_dir_all(dir).map_err(PlotError::Io)?;
+        t.draw(&png)?;
+        return Ok(vec![png]);
     }
     record_charts(true);
     let made = f.make(dir);

@@ -386,12 +386,12 @@ fn resolve(k: &Krate, path: &[String], hops: usize) -> Option<PathBuf> {
     }
     for n in (0..=path.len()).rev() {
         if let Some(f) = k.files.get(&path[..n]) {
-            if n < path.len() {
-                if let Some(target) = k.aliases.get(&(path[..n].to_vec(), path[n].clone())) {
-                    let mut t = target.clone();
-                    t.extend_from_slice(&path[n + 1..]);
-                    return resolve(k, &t, hops + 1).or_else(|| Some(f.clone()));
-                }
+            if n < path.len()
+                && let Some(target) = k.aliases.get(&(path[..n].to_vec(), path[n].clone()))
+            {
+                let mut t = target.clone();
+                t.extend_from_slice(&path[n + 1..]);
+                return resolve(k, &t, hops + 1).or_else(|| Some(f.clone()));
             }
             return Some(f.clone());
         }
@@ -457,10 +457,10 @@ fn edges(root: &Path, files: &[PathBuf]) -> (Krate, BTreeSet<(PathBuf, PathBuf)>
             if r.reexport && abs.starts_with(m) && abs.len() > m.len() {
                 continue;
             }
-            if let Some(t) = resolve(&k, &abs, 0) {
-                if &t != f {
-                    e.insert((f.clone(), t));
-                }
+            if let Some(t) = resolve(&k, &abs, 0)
+                && &t != f
+            {
+                e.insert((f.clone(), t));
             }
         }
     }
@@ -534,14 +534,14 @@ fn imports_run_downward_only() {
                 b.display()
             ));
         }
-        if let (Some(la), Some(lb)) = (layer(&ma), layer(&mb)) {
-            if lb > la || lb == 3 {
-                bad.push(format!(
-                    "{} imports {} (a layer above)",
-                    a.display(),
-                    b.display()
-                ));
-            }
+        if let (Some(la), Some(lb)) = (layer(&ma), layer(&mb))
+            && (lb > la || lb == 3)
+        {
+            bad.push(format!(
+                "{} imports {} (a layer above)",
+                a.display(),
+                b.display()
+            ));
         }
     }
     assert!(bad.is_empty(), "{bad:#?}");

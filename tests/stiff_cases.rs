@@ -46,7 +46,7 @@ fn porous_start(n: f64) -> Growth {
         x ^= x << 13;
         x ^= x >> 7;
         x ^= x << 17;
-        if x % 4 != 0 {
+        if !x.is_multiple_of(4) {
             g.occupy(c).unwrap();
         }
     }

@@ -161,10 +161,10 @@ pub fn run(a: Args) -> Result<()> {
     while m.iteration() < cfg.iterations {
         m.step();
         let t = m.iteration();
-        if let Some(r) = rec.as_mut() {
-            if t % every == 0 || t == cfg.iterations {
-                r.add(&m);
-            }
+        if let Some(r) = rec.as_mut()
+            && (t % every == 0 || t == cfg.iterations)
+        {
+            r.add(&m);
         }
         if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
             bar.set_draw_target(ProgressDrawTarget::stderr());

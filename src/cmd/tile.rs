@@ -676,6 +676,9 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
     Ok(())
 }
 
+/// The JSON summary of a run (seams, bytes, files, seconds).
+type Summary<'a> = &'a dyn Fn(Option<&SeamStats>, u64, &[PathBuf], f64) -> serde_json::Value;
+
 /// How to write a Zarr store.
 struct StoreOpts {
     part: Option<Part>,
@@ -691,7 +694,7 @@ fn write_store(
     src: &dyn RowSource,
     spec: &StreamSpec,
     o: &StoreOpts,
-    summary: &dyn Fn(Option<&SeamStats>, u64, &[PathBuf], f64) -> serde_json::Value,
+    summary: Summary<'_>,
 ) -> Result<()> {
     let (json, quiet) = (o.json, o.quiet);
     let t0 = Instant::now();

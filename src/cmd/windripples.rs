@@ -86,14 +86,15 @@ fn parse_number(s: &str) -> Result<f64, String> {
 
 /// Fails early (before a long run) when an output file's folder does not exist.
 fn check_output(flag: &str, p: &Path) -> Result<()> {
-    if let Some(dir) = p.parent() {
-        if !dir.as_os_str().is_empty() && !dir.is_dir() {
-            bail!(
-                "{flag} {}: the folder {} does not exist",
-                p.display(),
-                dir.display()
-            );
-        }
+    if let Some(dir) = p.parent()
+        && !dir.as_os_str().is_empty()
+        && !dir.is_dir()
+    {
+        bail!(
+            "{flag} {}: the folder {} does not exist",
+            p.display(),
+            dir.display()
+        );
     }
     if p.is_dir() {
         bail!("{flag} {}: is a folder, expected a file name", p.display());

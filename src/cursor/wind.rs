@@ -295,16 +295,16 @@ impl WindField {
             .read_info()
             .map_err(|e| png_err(format!("not a readable PNG image ({e})")))?;
         let (iw, ih) = (reader.info().width as usize, reader.info().height as usize);
-        if let Some((ew, eh)) = expected {
-            if (iw, ih) != (ew, eh) {
-                return Err(CursorError::PngSize {
-                    path: name.to_string(),
-                    width: iw,
-                    height: ih,
-                    expected_width: ew,
-                    expected_height: eh,
-                });
-            }
+        if let Some((ew, eh)) = expected
+            && (iw, ih) != (ew, eh)
+        {
+            return Err(CursorError::PngSize {
+                path: name.to_string(),
+                width: iw,
+                height: ih,
+                expected_width: ew,
+                expected_height: eh,
+            });
         }
         check_size(iw, ih).map_err(|e| match e {
             CursorError::GridSize(m) => CursorError::GridSize(format!("of wind image {name}: {m}")),

@@ -142,14 +142,14 @@ impl DuneModel {
                 range: "at most 2^62 grains in all",
             });
         }
-        if let Some(w) = m.werner.as_ref() {
-            if let Some(g) = grains.iter().find(|&&g| g % w.slab != 0) {
-                return Err(DuneError::Parameter {
-                    name: "grains",
-                    value: g.to_string(),
-                    range: "whole slabs in Werner mode",
-                });
-            }
+        if let Some(w) = m.werner.as_ref()
+            && let Some(g) = grains.iter().find(|&&g| g % w.slab != 0)
+        {
+            return Err(DuneError::Parameter {
+                name: "grains",
+                value: g.to_string(),
+                range: "whole slabs in Werner mode",
+            });
         }
         m.cfg.quantity = cfg.quantity;
         m.rng = stream(cfg.seed);

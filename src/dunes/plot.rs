@@ -461,10 +461,10 @@ fn run_model_with_snapshots(
         if at.contains(&t) {
             kept.push((t, m.grains().to_vec()));
         }
-        if let Some((r, every)) = rec.as_mut() {
-            if t % *every == 0 || t == cfg.iterations {
-                r.add(&m);
-            }
+        if let Some((r, every)) = rec.as_mut()
+            && (t.is_multiple_of(*every) || t == cfg.iterations)
+        {
+            r.add(&m);
         }
         if t >= cfg.iterations {
             break;

@@ -94,7 +94,7 @@ impl Neighbourhood {
             Neighbourhood::Square4 => &VON_NEUMANN,
             Neighbourhood::Square8 => &MOORE,
             Neighbourhood::Hex => {
-                if y % 2 == 0 {
+                if y.is_multiple_of(2) {
                     &HEX_EVEN
                 } else {
                     &HEX_ODD

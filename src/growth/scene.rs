@@ -370,19 +370,19 @@ impl SceneConfig {
                  work); the exact sampler runs the same process with no clock limit",
             ));
         }
-        if let Some(e) = self.events {
-            if e == 0 || e > MAX_STEPS {
-                return Err(range("events", e, format!("1 to {MAX_STEPS}")));
-            }
+        if let Some(e) = self.events
+            && (e == 0 || e > MAX_STEPS)
+        {
+            return Err(range("events", e, format!("1 to {MAX_STEPS}")));
         }
-        if let Some(f) = self.until_occupied {
-            if !(f > 0.0 && f <= 1.0) {
-                return Err(range(
-                    "until_occupied",
-                    f,
-                    "a fraction of the lattice's cells, above 0 and at most 1",
-                ));
-            }
+        if let Some(f) = self.until_occupied
+            && !(f > 0.0 && f <= 1.0)
+        {
+            return Err(range(
+                "until_occupied",
+                f,
+                "a fraction of the lattice's cells, above 0 and at most 1",
+            ));
         }
         for w in self.snapshots.windows(2) {
             if w[1] <= w[0] {
@@ -393,14 +393,15 @@ impl SceneConfig {
                 ));
             }
         }
-        if let Some(&last) = self.snapshots.last() {
-            if self.steps > 0 && last > self.steps {
-                return Err(range(
-                    "snapshots",
-                    last,
-                    format!("every snapshot must be at most steps = {}", self.steps),
-                ));
-            }
+        if let Some(&last) = self.snapshots.last()
+            && self.steps > 0
+            && last > self.steps
+        {
+            return Err(range(
+                "snapshots",
+                last,
+                format!("every snapshot must be at most steps = {}", self.steps),
+            ));
         }
         if self.snapshots.len() > 64 {
             return Err(range(

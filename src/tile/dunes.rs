@@ -145,7 +145,13 @@ impl RippledDunes {
     ) -> Result<RippledDunes, TileError> {
         let (nx, ny) = mosaic.tile_size();
         let (w, h) = mosaic.size();
-        let half = |n: usize| if n % 2 == 0 && n >= 8 { n / 2 } else { n };
+        let half = |n: usize| {
+            if n.is_multiple_of(2) && n >= 8 {
+                n / 2
+            } else {
+                n
+            }
+        };
         let anchor = (half(nx), half(ny));
         let theta_t = mosaic.tiles()[0].current_angle.to_radians();
         let theta0 = current_angle.to_radians();

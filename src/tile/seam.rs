@@ -247,7 +247,7 @@ impl SeamMeter {
         if self.rows == 0 {
             self.first = row.to_vec();
         } else {
-            let seam = self.rows % self.tile_ny == 0;
+            let seam = self.rows.is_multiple_of(self.tile_ny);
             self.y_lines.push((Self::row_jump(&self.prev, row), seam));
             if let Some((dx, acc)) = &mut self.slope {
                 Self::slopes(acc, *dx, &self.prev, row);
@@ -264,7 +264,7 @@ impl SeamMeter {
             return SeamStats::default();
         }
         if self.rows > 1 {
-            let seam = self.rows % self.tile_ny == 0;
+            let seam = self.rows.is_multiple_of(self.tile_ny);
             self.y_lines
                 .push((Self::row_jump(&self.prev, &self.first), seam));
             if let Some((dx, acc)) = &mut self.slope {

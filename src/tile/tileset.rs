@@ -112,14 +112,14 @@ impl Tile {
                 "finite heights (no NaN or infinity)",
             ));
         }
-        if let Some(v) = &self.volume {
-            if v.data.len() != v.nz * self.nx * self.ny {
-                return Err(TileError::range(
-                    "tile volume",
-                    format!("{} values", v.data.len()),
-                    format!("nz x ny x nx = {} values", v.nz * self.nx * self.ny),
-                ));
-            }
+        if let Some(v) = &self.volume
+            && v.data.len() != v.nz * self.nx * self.ny
+        {
+            return Err(TileError::range(
+                "tile volume",
+                format!("{} values", v.data.len()),
+                format!("nz x ny x nx = {} values", v.nz * self.nx * self.ny),
+            ));
         }
         Ok(())
     }

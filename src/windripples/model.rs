@@ -348,7 +348,7 @@ impl WindRipples {
     /// which stream serves which particle but not the model (the particles are exchangeable);
     /// [`Self::ids`] keeps their identities.
     pub fn step(&mut self) {
-        if self.steps_done % SORT_EVERY == 0 && self.steps_done > 0 {
+        if self.steps_done.is_multiple_of(SORT_EVERY) && self.steps_done > 0 {
             self.sort_by_cell();
         }
         let sigma = self.next_sigma();
