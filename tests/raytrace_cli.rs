@@ -185,7 +185,8 @@ fn flat_csv(name: &str) -> PathBuf {
     p
 }
 
-fn fraction(extra: &[&str]) -> f64 {
+/// The insonified fraction by length and by vertex.
+fn fraction(extra: &[&str]) -> (f64, f64) {
     let flat = flat_csv("flat_fan.csv");
     let mut a = vec![
         "raytrace",
@@ -197,24 +198,36 @@ fn fraction(extra: &[&str]) -> f64 {
     let o = cellsurf(&a);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    v["insonified_fraction"].as_f64().unwrap()
+    let by_length = v["insonified_fraction"].as_f64().unwrap();
+    let lit = v["lit_length_m"].as_f64().unwrap();
+    assert!((by_length - lit / 100.0).abs() < 1e-12);
+    (by_length, v["vertex_insonified_fraction"].as_f64().unwrap())
 }
 
 #[test]
 fn straight_mode_honours_the_fan() {
     // a horizontal fan from S at 10 m never reaches the floor at 20 m, in either mode
     let flat0 = ["--angle-min", "0", "--angle-max", "0"];
-    assert_eq!(fraction(&flat0), 0.0);
-    assert_eq!(fraction(&[&flat0[..], &["--straight"]].concat()), 0.0);
-    // 80 to 90 degrees reach x = 0 and 1 m only (x = 2 m is at 78.7 degrees)
+    assert_eq!(fraction(&flat0), (0.0, 0.0));
+    assert_eq!(
+        fraction(&[&flat0[..], &["--straight"]].concat()),
+        (0.0, 0.0)
+    );
+    // 80 to 90 degrees reach x = 0 and 1 m only (x = 2 m is at 78.7 degrees): the floor up
+    // to 10 / tan 80 = 1.76 m
     let steep = ["--angle-min", "80", "--angle-max", "90"];
     let rays = fraction(&steep);
     let straight = fraction(&[&steep[..], &["--straight"]].concat());
-    assert!((straight - 2.0 / 101.0).abs() < 1e-12, "{straight}");
-    assert_eq!(rays, straight);
+    assert!((straight.1 - 2.0 / 101.0).abs() < 1e-12, "{straight:?}");
+    let want = 10.0 / 80f64.to_radians().tan() / 100.0;
+    assert!((straight.0 - want).abs() < 1e-12, "{straight:?}");
+    assert_eq!(rays.1, straight.1);
+    assert!((rays.0 - want).abs() < 1e-9, "{rays:?}");
     // the default fan (1.5 to 25 degrees) lights x >= 10 / tan 25 = 21.4 m
     let lit = fraction(&["--straight"]);
-    assert!((lit - 79.0 / 101.0).abs() < 1e-12, "{lit}");
+    assert!((lit.1 - 79.0 / 101.0).abs() < 1e-12, "{lit:?}");
+    let want = 1.0 - 10.0 / 25f64.to_radians().tan() / 100.0;
+    assert!((lit.0 - want).abs() < 1e-12, "{lit:?}");
 }
 
 #[test]

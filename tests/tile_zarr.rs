@@ -281,3 +281,79 @@ fn bad_part_and_chunk_flags_name_the_flag_value_and_range() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn raytrace_reads_only_the_chunks_the_section_crosses() {
+    // the same mosaic as NetCDF and as a store of 4 x 4 chunks, with the impedance beneath
+    let nc = tmp("m.nc");
+    let store = tmp("m.zarr");
+    let base = [
+        "tile",
+        "--generate",
+        "--nx",
+        "64",
+        "--ny",
+        "32",
+        "--layers",
+        "10",
+        "--steps",
+        "300",
+        "--mosaic",
+        "8x16",
+        "--volume",
+        "impedance",
+        "--quiet",
+    ];
+    let (n, z) = (nc.display().to_string(), store.display().to_string());
+    for extra in [
+        vec!["--out", n.as_str()],
+        vec!["--out", z.as_str(), "--chunk-tiles", "2x4"],
+    ] {
+        let mut a = base.to_vec();
+        a.extend(extra);
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    // the section runs along x through the middle row (y = 256 bins: chunk row 2 of 4)
+    let trace = |floor: &str| {
+        let o = cellsurf(&[
+            "raytrace",
+            "--seafloor",
+            floor,
+            "--length",
+            "2.5",
+            "--water-depth",
+            "5",
+            "--source-depth",
+            "4.9",
+            "--angle-min",
+            "2",
+            "--angle-max",
+            "40",
+            "--ds",
+            "0.01",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let from_nc = trace(&n);
+    // every chunk off the section's chunk row removed: the trace does not need them
+    for j in [0, 1, 3] {
+        std::fs::remove_dir_all(store.join(format!("elevation/c/{j}"))).unwrap();
+        std::fs::remove_dir_all(store.join(format!("impedance/c/{j}"))).unwrap();
+    }
+    let from_zarr = trace(&z);
+    // the same floor (the NetCDF file's bin size comes from its float32 x coordinate, the
+    // store's from its bin_size_m attribute: equal to 1e-7)
+    assert_eq!(from_nc["vertices"], from_zarr["vertices"]);
+    for k in ["insonified_fraction", "lit_length_m"] {
+        let (a, b) = (from_nc[k].as_f64().unwrap(), from_zarr[k].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-6 * a.abs(), "{k}: {a} vs {b}");
+    }
+    // 2.5 m of the 2.56 m row: the 4 elevation and 4 impedance chunks of the row
+    assert_eq!(from_zarr["zarr_chunks_read"], 8, "{from_zarr}");
+    assert!(from_zarr["insonified_fraction"].as_f64().unwrap() > 0.0);
+    std::fs::remove_dir_all(&store).unwrap();
+    std::fs::remove_file(&nc).unwrap();
+}

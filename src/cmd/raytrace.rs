@@ -5,7 +5,11 @@
 //!
 //! The floor is a section through the built-in generated ripple field (a 3-D ripple run, seed
 //! `--seed`, tiled along the section) or through a ripple NetCDF file (`--seafloor`),
-//! `--water-depth` below the surface, or a `--seafloor-csv` file.
+//! `--water-depth` below the surface, or a `--seafloor-csv` file; a Zarr store from
+//! `cellsurf tile --out X.zarr` is read chunk by chunk along the section, never whole.
+//!
+//! `insonified_fraction` is the lit share of the floor's length (lit stretches between the
+//! shadow edges), whatever the vertex spacing; `vertex_insonified_fraction` counts vertices.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -16,7 +20,9 @@ use serde::{Deserialize, Serialize};
 use super::conv::{self, Format, Outputs};
 
 use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
+use cellsurf::raytrace::input::ZarrSurface;
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
+use cellsurf::raytrace::seafloor::cut_section;
 use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
     Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
@@ -105,8 +111,9 @@ pub struct Args {
     /// Seafloor from a ripple NetCDF file (`cellsurf ripple --out`: its last elevation and
     /// top-automaton impedance) or a mosaic (`cellsurf tile --out`: its elevation and, with
     /// `--volume impedance`, the top impedance), cut like the generated field (--azimuth,
-    /// --length).
-    #[arg(long, value_name = "FILE.nc")]
+    /// --length). A Zarr store (`cellsurf tile --out X.zarr`) is read chunk by chunk: only
+    /// the chunks the section crosses.
+    #[arg(long, value_name = "FILE.nc|STORE.zarr")]
     seafloor: Option<PathBuf>,
     /// Length of the section through the generated ripple mosaic, m: at most 1e6 m and 2e7
     /// bins of the surface (1e5 m at the generated field's 5 mm bins).
@@ -198,12 +205,28 @@ fn profile(a: &Args) -> Result<SoundSpeed> {
     })
 }
 
-/// The floor, and the kind of surface it was cut from.
-fn floor(a: &Args) -> Result<(Seafloor, &'static str)> {
+/// The floor, the kind of surface it was cut from, and the chunks read from a Zarr store.
+fn floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
     if let Some(p) = &a.seafloor_csv {
         let f = Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
             .with_context(|| format!("in --seafloor-csv {}", p.display()))?;
-        return Ok((f, "csv"));
+        return Ok((f, "csv", None));
+    }
+    if let Some(p) = a.seafloor.as_ref().filter(|p| {
+        p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
+    }) {
+        let mut z = ZarrSurface::open(p).context("reading --seafloor")?;
+        let (_, ny, bin) = z.shape();
+        let line = SectionLine::Line {
+            x0: bin / 2.0,
+            y0: (ny / 2) as f64 * bin + bin / 2.0,
+            azimuth_deg: a.azimuth,
+            length: a.length,
+            spacing: bin,
+        };
+        let f = cut_section(&mut z, line, a.water_depth, 0.0).context("reading --seafloor")?;
+        return Ok((f, "tile store", Some(z.chunks_read)));
     }
     let (surf, kind) = match &a.seafloor {
         Some(p) => {
@@ -220,7 +243,7 @@ fn floor(a: &Args) -> Result<(Seafloor, &'static str)> {
         length: a.length,
         spacing: surf.bin,
     };
-    Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind))
+    Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
 }
 
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
@@ -297,7 +320,7 @@ pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
     check_outputs(&a, &outs)?;
     let prof = profile(&a)?;
-    let (fl, kind) = floor(&a)?;
+    let (fl, kind, chunks_read) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
     let (amin, amax) = fan_angles(&a)?;
     let (x0, x1) = fl.x_range();
@@ -408,7 +431,10 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(p);
     }
     let elapsed = start.elapsed().as_secs_f64();
-    let lit = ins.insonified_fraction();
+    let lit = ins.length_fraction(&fl);
+    let lit_m = ins.lit_length(&fl);
+    let floor_m = fl.length();
+    let spans = ins.spans(&fl);
     if a.json {
         let own = serde_json::json!({
             "profile": prof.name(),
@@ -419,6 +445,13 @@ pub fn run(a: Args) -> Result<()> {
             "truncated": ins.truncated,
             "insonified_fraction": lit,
             "shadowed_fraction": 1.0 - lit,
+            "lit_length_m": lit_m,
+            "shadowed_length_m": (floor_m - lit_m).max(0.0),
+            "floor_length_m": floor_m,
+            "lit_spans": spans.iter().filter(|s| s.lit).count(),
+            "shadowed_spans": spans.iter().filter(|s| !s.lit).count(),
+            "vertex_insonified_fraction": ins.insonified_fraction(),
+            "zarr_chunks_read": chunks_read,
             "max_snell_drift": ins.max_snell_drift,
             "run": {
                 "angles_deg": [amin, amax],
@@ -431,7 +464,7 @@ pub fn run(a: Args) -> Result<()> {
         println!("{}", serde_json::to_string(&v)?);
     } else {
         println!(
-            "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} %, shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
+            "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} % of {floor_m:.2} m ({lit_m:.2} m lit, {} lit stretches), shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
             fl.len(),
             ins.rays,
             ins.edges,
@@ -441,6 +474,7 @@ pub fn run(a: Args) -> Result<()> {
                 ""
             },
             lit * 100.0,
+            spans.iter().filter(|s| s.lit).count(),
             (1.0 - lit) * 100.0,
             ins.max_snell_drift
         );

@@ -8,7 +8,7 @@
 //! - [`Store`]: a store opened or created at a folder `NAME.zarr`. [`Store::create`] writes the
 //!   root group's and every array's `zarr.json`, or, when they exist, checks that they are the
 //!   same (so any number of writers may start in any order: whichever comes first writes the
-//!   metadata, and a writer with other parameters is refused). [`Store::write_chunk`] encodes
+//!   metadata, and a writer with other parameters is refused). [`Store::write_chunk_f32`] encodes
 //!   and writes one chunk; [`Store::chunk_state`] tells whether a chunk is there and decodes;
 //!   [`Store::read_chunk_f32`] reads one.
 //! - [`AtomicFsStore`]: the `zarrs` file-system store with every write made atomic (a temporary

@@ -5,6 +5,9 @@
 //! field `FIELD(y, z, x)`). A mosaic's bin size is the spacing of its `x` coordinate; its
 //! impedance is the top non-fill value of each column of an `impedance(y, z, x)` field, or none.
 //!
+//! A Zarr store (`cellsurf tile --out X.zarr`, feature `zarr`) is not read whole:
+//! [`ZarrSurface`] reads the chunks a section crosses as it goes.
+//!
 //! Errors are short: an I/O error's message, or what is wrong with the file, never its bytes.
 
 use std::path::Path;
@@ -162,4 +165,165 @@ pub fn read_surface(path: &Path) -> Result<(RippleSurface, SurfaceKind), Raytrac
         },
         SurfaceKind::Mosaic,
     ))
+}
+
+/// A Zarr store written by `cellsurf tile --out X.zarr` ([`crate::engine::zarr`]) read chunk by
+/// chunk as a section goes: `elevation(y, x)` (m) and, when the store has it, the top
+/// non-NaN value of each column of `impedance(y, z, x)`. Only the chunks that the section's
+/// samples (and their bilinear neighbours) fall in are read, and at most
+/// [`ZarrSurface::CACHE`] chunks are held at once, so memory does not grow with the store.
+#[cfg(feature = "zarr")]
+pub struct ZarrSurface {
+    store: crate::engine::zarr::Store,
+    nx: usize,
+    ny: usize,
+    bin: f64,
+    /// Chunk size along x and y, bins.
+    chunk: (usize, usize),
+    levels: usize,
+    impedance: bool,
+    elev: Vec<((usize, usize), Vec<f32>)>,
+    imp: Vec<((usize, usize), Vec<f32>)>,
+    /// Chunks read (elevation and impedance).
+    pub chunks_read: usize,
+}
+
+#[cfg(feature = "zarr")]
+impl ZarrSurface {
+    /// Chunks held at once per array (the four round a bin at a chunk corner, and a few more).
+    pub const CACHE: usize = 6;
+
+    /// Opens the store at `path`: it needs `elevation(y, x)` and its bin size (the spacing of
+    /// `x`, or the attribute `bin_size_m`).
+    pub fn open(path: &Path) -> Result<ZarrSurface, RaytraceError> {
+        let store = crate::engine::zarr::Store::open(path).map_err(|e| err(path, e))?;
+        let spec = store
+            .spec("elevation")
+            .filter(|s| s.dims == ["y", "x"])
+            .ok_or_else(|| err(path, "no 'elevation(y, x)' array: not a tile store"))?
+            .clone();
+        let (ny, nx) = (spec.shape[0] as usize, spec.shape[1] as usize);
+        let chunk = (spec.chunks[1] as usize, spec.chunks[0] as usize);
+        let attrs = store.attributes().map_err(|e| err(path, e))?;
+        let bin = match attrs.get("bin_size_m").and_then(|v| v.as_f64()) {
+            Some(b) => b,
+            None => {
+                let xs = store.read_chunk_f64("x", &[0]).map_err(|e| err(path, e))?;
+                match xs.as_slice() {
+                    [a, b, ..] => b - a,
+                    [a] => 2.0 * a,
+                    [] => f64::NAN,
+                }
+            }
+        };
+        if !(bin.is_finite() && bin > 0.0) {
+            return Err(err(path, format!("bin size {bin} m")));
+        }
+        if nx == 0 || ny == 0 {
+            return Err(err(path, format!("empty mosaic ({nx} x {ny})")));
+        }
+        let vol = store
+            .spec("impedance")
+            .filter(|s| s.dims == ["y", "z", "x"] && s.chunks[0] == spec.chunks[0])
+            .map(|s| s.shape[1] as usize);
+        Ok(ZarrSurface {
+            store,
+            nx,
+            ny,
+            bin,
+            chunk,
+            levels: vol.unwrap_or(0),
+            impedance: vol.is_some(),
+            elev: Vec::new(),
+            imp: Vec::new(),
+            chunks_read: 0,
+        })
+    }
+
+    /// Bins along x and y, and the bin size (m).
+    pub fn shape(&self) -> (usize, usize, f64) {
+        (self.nx, self.ny, self.bin)
+    }
+
+    /// The chunk holding bin `(i, j)`, read if not held (the oldest dropped beyond
+    /// [`ZarrSurface::CACHE`]); returns its slot.
+    fn chunk_of(&mut self, vol: bool, ci: usize, cj: usize) -> Result<usize, RaytraceError> {
+        let cache = if vol { &self.imp } else { &self.elev };
+        if let Some(k) = cache.iter().position(|c| c.0 == (ci, cj)) {
+            return Ok(k);
+        }
+        let path = self.store.root().to_path_buf();
+        let data = if vol {
+            self.store
+                .read_chunk_f32("impedance", &[cj as u64, 0, ci as u64])
+        } else {
+            self.store
+                .read_chunk_f32("elevation", &[cj as u64, ci as u64])
+        }
+        .map_err(|e| err(&path, e))?;
+        self.chunks_read += 1;
+        let cache = if vol { &mut self.imp } else { &mut self.elev };
+        if cache.len() >= Self::CACHE {
+            cache.remove(0);
+        }
+        cache.push(((ci, cj), data));
+        Ok(cache.len() - 1)
+    }
+
+    fn value(&mut self, i: usize, j: usize) -> Result<f64, RaytraceError> {
+        let (cx, cy) = self.chunk;
+        let k = self.chunk_of(false, i / cx, j / cy)?;
+        let v = self.elev[k].1[(j % cy) * cx + i % cx];
+        if v.is_nan() {
+            return Err(err(
+                self.store.root(),
+                format!(
+                    "elevation of bin ({i}, {j}) missing (an unwritten chunk: run `cellsurf tile --check`)"
+                ),
+            ));
+        }
+        Ok(f64::from(v))
+    }
+}
+
+#[cfg(feature = "zarr")]
+impl super::seafloor::SurfaceSampler for ZarrSurface {
+    fn size(&self) -> (usize, usize) {
+        (self.nx, self.ny)
+    }
+    fn bin(&self) -> f64 {
+        self.bin
+    }
+    /// Bilinear and periodic, as [`super::seafloor::Grid::elevation_at`].
+    fn elevation(&mut self, x: f64, y: f64) -> Result<f64, RaytraceError> {
+        let gx = x / self.bin - 0.5;
+        let gy = y / self.bin - 0.5;
+        let (fx, fy) = (gx.floor(), gy.floor());
+        let (tx, ty) = (gx - fx, gy - fy);
+        let w = |i: f64, n: usize| (i as i64).rem_euclid(n as i64) as usize;
+        let (i0, j0) = (w(fx, self.nx), w(fy, self.ny));
+        let (i1, j1) = ((i0 + 1) % self.nx, (j0 + 1) % self.ny);
+        let (a, b) = (self.value(i0, j0)?, self.value(i1, j0)?);
+        let (c, d) = (self.value(i0, j1)?, self.value(i1, j1)?);
+        Ok((1.0 - ty) * ((1.0 - tx) * a + tx * b) + ty * ((1.0 - tx) * c + tx * d))
+    }
+    fn impedance(&mut self, x: f64, y: f64) -> Result<Option<f64>, RaytraceError> {
+        if !self.impedance {
+            return Ok(None);
+        }
+        let w = |v: f64, n: usize| ((v / self.bin).floor() as i64).rem_euclid(n as i64) as usize;
+        let (i, j) = (w(x, self.nx), w(y, self.ny));
+        let (cx, cy) = self.chunk;
+        let k = self.chunk_of(true, i / cx, j / cy)?;
+        let (r, c, nz) = (j % cy, i % cx, self.levels);
+        let slab = &self.imp[k].1;
+        Ok((0..nz)
+            .rev()
+            .map(|z| slab[(r * nz + z) * cx + c])
+            .find(|v| v.is_finite())
+            .map(f64::from))
+    }
+    fn has_impedance(&self) -> bool {
+        self.impedance
+    }
 }

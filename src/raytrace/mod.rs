@@ -17,7 +17,9 @@
 //!   [`Ray`] reports its reflections, why it ended and its Snell-invariant drift.
 //! - [`Fan`] and [`insonify`] ([`shadow`]): which floor vertices a fan of rays reaches first,
 //!   with grazing angle, travel time and normal-incidence reflection coefficient; unreached
-//!   vertices are in shadow. [`visibility`] is the straight-line (line-of-sight) counterpart.
+//!   vertices are in shadow; the lit and shadowed lengths along the floor, split at the shadow
+//!   edges ([`Span`]). [`visibility`] and [`visible_stretches`] are the straight-line
+//!   (line-of-sight) counterparts.
 //! - [`rough`]: periodic Gaussian random surfaces and Smith's (1967) shadowing function.
 //! - [`export`]: BELLHOP bathymetry (`.bty`) and CSV files, written atomically.
 //! - `figures` (feature `plot`): `ripple_fig5_raytrace` and `raytrace_error_vs_time`, listed in
@@ -57,7 +59,8 @@ pub use profile::{Mackenzie, Munk, SoundSpeed, Table};
 pub use ray::{Ray, RayEnd, Reflection, StepError, Surface, TraceOptions, Tracer, error_study};
 pub use seafloor::{RippleSurface, Seafloor, SectionLine};
 pub use shadow::{
-    Arrival, Fan, Insonification, InsonifyOptions, insonify, reflection_coefficient, visibility,
+    Arrival, Fan, Insonification, InsonifyOptions, Span, insonify, reflection_coefficient,
+    visibility, visible_stretches,
 };
 
 /// The crate version, recorded in every output (the engine's).

@@ -248,6 +248,41 @@ impl Seafloor {
         if l > 1e-12 { (nx / l, nz / l) } else { b }
     }
 
+    /// Length of segment `i` (cliffs included), m.
+    pub fn segment_length(&self, i: usize) -> f64 {
+        (self.x[i + 1] - self.x[i]).hypot(self.z[i + 1] - self.z[i])
+    }
+
+    /// Length of the whole polyline along the floor (cliffs included), m.
+    pub fn length(&self) -> f64 {
+        (0..self.x.len() - 1).map(|i| self.segment_length(i)).sum()
+    }
+
+    /// Length along the floor between the floor positions `s0 <= s1`, a position `s = i + u`
+    /// being fraction `u` of segment `i` (so vertex `v` is at `s = v`), m.
+    pub fn length_between(&self, s0: f64, s1: f64) -> f64 {
+        let nseg = self.x.len() - 1;
+        let (s0, s1) = (s0.clamp(0.0, nseg as f64), s1.clamp(0.0, nseg as f64));
+        if s1 <= s0 {
+            return 0.0;
+        }
+        let (i0, i1) = (s0.floor() as usize, (s1.ceil() as usize).min(nseg));
+        (i0..i1)
+            .map(|i| {
+                let (a, b) = (s0.max(i as f64), s1.min(i as f64 + 1.0));
+                (b - a).max(0.0) * self.segment_length(i)
+            })
+            .sum()
+    }
+
+    /// The point at floor position `s = i + u` ([`Seafloor::length_between`]).
+    pub fn point_at(&self, s: f64) -> (f64, f64) {
+        let nseg = self.x.len() - 1;
+        let s = s.clamp(0.0, nseg as f64);
+        let i = (s.floor() as usize).min(nseg - 1);
+        self.point(i, s - i as f64)
+    }
+
     /// The point of segment `i` at fraction `u`.
     pub fn point(&self, i: usize, u: f64) -> (f64, f64) {
         (
@@ -419,82 +454,128 @@ impl Grid<'_> {
         x_start: f64,
     ) -> Result<Seafloor, RaytraceError> {
         self.check()?;
-        check_range("water depth", water_depth, 1e-6, 12_000.0, "m")?;
-        let b = self.bin;
-        let (x0, y0, az, n, step) = match line {
-            SectionLine::Row { j, tiles } => {
-                if j >= self.ny || tiles == 0 || tiles > 100_000 {
-                    return Err(range_err(
-                        "section row",
-                        format!("{j} x {tiles} tiles"),
-                        format!("a row in [0, {}) and 1..=100000 tiles", self.ny),
-                    ));
-                }
-                (b / 2.0, (j as f64 + 0.5) * b, 0.0f64, self.nx * tiles, b)
-            }
-            SectionLine::Column { i, tiles } => {
-                if i >= self.nx || tiles == 0 || tiles > 100_000 {
-                    return Err(range_err(
-                        "section column",
-                        format!("{i} x {tiles} tiles"),
-                        format!("a column in [0, {}) and 1..=100000 tiles", self.nx),
-                    ));
-                }
-                ((i as f64 + 0.5) * b, b / 2.0, 90.0, self.ny * tiles, b)
-            }
-            SectionLine::Line {
-                x0,
-                y0,
-                azimuth_deg,
-                length,
-                spacing,
-            } => {
-                check_range("section x0", x0, -1e7, 1e7, "m")?;
-                check_range("section y0", y0, -1e7, 1e7, "m")?;
-                check_range("section azimuth", azimuth_deg, -360.0, 360.0, "degrees")?;
-                check_range("section spacing", spacing, 1e-6, 1e4, "m")?;
-                // at most 1e6 m and 2e7 samples: the stated range is the one enforced
-                let max_length = (MAX_SECTION_SAMPLES as f64 * spacing).min(1e6);
-                check_range(
-                    "section length",
-                    length,
-                    spacing,
-                    max_length,
-                    &format!("m (at most 1e6 m and 2e7 samples of {spacing} m)"),
-                )?;
-                let n = (length / spacing).floor() as usize;
-                if n > MAX_SECTION_SAMPLES {
-                    return Err(range_err(
-                        "section length / spacing",
-                        n,
-                        "at most 2e7 samples",
-                    ));
-                }
-                (x0, y0, azimuth_deg, n, spacing)
-            }
-        };
-        let (ca, sa) = (az.to_radians().cos(), az.to_radians().sin());
-        let (mut xs, mut zs, mut imp) = (Vec::new(), Vec::new(), Vec::new());
-        for k in 0..=n {
-            let s = k as f64 * step;
-            let (px, py) = (x0 + s * ca, y0 + s * sa);
-            let e = self.elevation_at(px, py);
-            if e.is_nan() || e >= water_depth {
+        let mut g = *self;
+        cut_section(&mut g, line, water_depth, x_start)
+    }
+}
+
+impl SurfaceSampler for Grid<'_> {
+    fn size(&self) -> (usize, usize) {
+        (self.nx, self.ny)
+    }
+    fn bin(&self) -> f64 {
+        self.bin
+    }
+    fn elevation(&mut self, x: f64, y: f64) -> Result<f64, RaytraceError> {
+        Ok(self.elevation_at(x, y))
+    }
+    fn impedance(&mut self, x: f64, y: f64) -> Result<Option<f64>, RaytraceError> {
+        Ok(self.impedance_at(x, y))
+    }
+    fn has_impedance(&self) -> bool {
+        !self.impedance.is_empty()
+    }
+}
+
+/// A periodic surface sampled point by point: a [`Grid`] in memory, or a store read chunk by
+/// chunk as the section goes ([`super::input`]).
+pub trait SurfaceSampler {
+    /// Bins along x and y.
+    fn size(&self) -> (usize, usize);
+    /// Bin size, m.
+    fn bin(&self) -> f64;
+    /// Bilinear periodic elevation at (x, y) m, bin `i` centred at `(i + 0.5) bin`.
+    fn elevation(&mut self, x: f64, y: f64) -> Result<f64, RaytraceError>;
+    /// Impedance of the column nearest to (x, y) (None: bare substrate or no impedance).
+    fn impedance(&mut self, x: f64, y: f64) -> Result<Option<f64>, RaytraceError>;
+    /// Whether the surface carries an impedance.
+    fn has_impedance(&self) -> bool;
+}
+
+/// The floor along `line` through `surf`: depth `water_depth - elevation`, ranges from
+/// `x_start` (m) ([`Grid::section`] for a grid in memory).
+pub fn cut_section(
+    surf: &mut dyn SurfaceSampler,
+    line: SectionLine,
+    water_depth: f64,
+    x_start: f64,
+) -> Result<Seafloor, RaytraceError> {
+    check_range("water depth", water_depth, 1e-6, 12_000.0, "m")?;
+    let (nx, ny) = surf.size();
+    let b = surf.bin();
+    let (x0, y0, az, n, step) = match line {
+        SectionLine::Row { j, tiles } => {
+            if j >= ny || tiles == 0 || tiles > 100_000 {
                 return Err(range_err(
-                    "water depth",
-                    water_depth,
-                    format!("more than the bed elevation {e} m at section sample {k}"),
+                    "section row",
+                    format!("{j} x {tiles} tiles"),
+                    format!("a row in [0, {}) and 1..=100000 tiles", ny),
                 ));
             }
-            xs.push(x_start + s);
-            zs.push(water_depth - e);
-            imp.push(self.impedance_at(px, py));
+            (b / 2.0, (j as f64 + 0.5) * b, 0.0f64, nx * tiles, b)
         }
-        if self.impedance.is_empty() {
-            imp.clear();
+        SectionLine::Column { i, tiles } => {
+            if i >= nx || tiles == 0 || tiles > 100_000 {
+                return Err(range_err(
+                    "section column",
+                    format!("{i} x {tiles} tiles"),
+                    format!("a column in [0, {}) and 1..=100000 tiles", nx),
+                ));
+            }
+            ((i as f64 + 0.5) * b, b / 2.0, 90.0, ny * tiles, b)
         }
-        Seafloor::new(xs, zs, imp)
+        SectionLine::Line {
+            x0,
+            y0,
+            azimuth_deg,
+            length,
+            spacing,
+        } => {
+            check_range("section x0", x0, -1e7, 1e7, "m")?;
+            check_range("section y0", y0, -1e7, 1e7, "m")?;
+            check_range("section azimuth", azimuth_deg, -360.0, 360.0, "degrees")?;
+            check_range("section spacing", spacing, 1e-6, 1e4, "m")?;
+            // at most 1e6 m and 2e7 samples: the stated range is the one enforced
+            let max_length = (MAX_SECTION_SAMPLES as f64 * spacing).min(1e6);
+            check_range(
+                "section length",
+                length,
+                spacing,
+                max_length,
+                &format!("m (at most 1e6 m and 2e7 samples of {spacing} m)"),
+            )?;
+            let n = (length / spacing).floor() as usize;
+            if n > MAX_SECTION_SAMPLES {
+                return Err(range_err(
+                    "section length / spacing",
+                    n,
+                    "at most 2e7 samples",
+                ));
+            }
+            (x0, y0, azimuth_deg, n, spacing)
+        }
+    };
+    let (ca, sa) = (az.to_radians().cos(), az.to_radians().sin());
+    let (mut xs, mut zs, mut imp) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..=n {
+        let s = k as f64 * step;
+        let (px, py) = (x0 + s * ca, y0 + s * sa);
+        let e = surf.elevation(px, py)?;
+        if e.is_nan() || e >= water_depth {
+            return Err(range_err(
+                "water depth",
+                water_depth,
+                format!("more than the bed elevation {e} m at section sample {k}"),
+            ));
+        }
+        xs.push(x_start + s);
+        zs.push(water_depth - e);
+        imp.push(surf.impedance(px, py)?);
     }
+    if !surf.has_impedance() {
+        imp.clear();
+    }
+    Seafloor::new(xs, zs, imp)
 }
 
 /// The bed elevation and the impedance of each column's top automaton of a ripple run: the

@@ -13,6 +13,14 @@
 //! against the vertex normal (the mean of its two segments' normals). Where several paths reach
 //! a vertex, the earliest arrival is kept.
 //!
+//! Insonification is also measured by length, whatever the vertex spacing (a floor given as a
+//! coarse polyline, as BELLHOP bathymetry files usually are, has few vertices): every pair of
+//! neighbouring rays marked above lights the stretch of floor between its two hits, so the lit
+//! floor is the union of those stretches ([`Insonification::lit`], positions `s = i + u`,
+//! fraction `u` of segment `i`), ending at the resolved shadow edges; [`Insonification::spans`]
+//! splits the floor into lit and shadowed pieces at those edges and
+//! [`Insonification::length_fraction`] is the lit share of the floor's length.
+//!
 //! [`visibility`] is the straight-line counterpart (line of sight from a point or a plane wave,
 //! a sweep in O(n)): the rays of an isovelocity profile, used as a check and for
 //! `cellsurf raytrace --straight`.
@@ -200,6 +208,36 @@ pub struct Insonification {
     pub truncated: bool,
     /// Largest Snell-invariant drift over the rays.
     pub max_snell_drift: f64,
+    /// The lit stretches of the floor, sorted and disjoint, as floor positions `(s0, s1)`
+    /// (`s = i + u`: fraction `u` of segment `i`; [`Seafloor::length_between`]).
+    pub lit: Vec<(f64, f64)>,
+}
+
+/// A piece of the floor between shadow edges ([`Insonification::spans`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Span {
+    /// Start (range, depth), m.
+    pub from: (f64, f64),
+    /// End (range, depth), m.
+    pub to: (f64, f64),
+    /// Length along the floor, m.
+    pub length: f64,
+    /// Insonified (else in shadow).
+    pub lit: bool,
+}
+
+/// Sorts stretches and merges those that overlap or touch.
+fn merge(mut v: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    v.retain(|&(a, b)| b > a);
+    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(v.len());
+    for (a, b) in v {
+        match out.last_mut() {
+            Some(last) if a <= last.1 => last.1 = last.1.max(b),
+            _ => out.push((a, b)),
+        }
+    }
+    out
 }
 
 impl Insonification {
@@ -215,6 +253,50 @@ impl Insonification {
     /// Fraction of all vertices insonified.
     pub fn insonified_fraction(&self) -> f64 {
         self.lit_fraction(0..self.arrivals.len())
+    }
+
+    /// Length of the lit floor, m (the union of [`Insonification::lit`]).
+    pub fn lit_length(&self, floor: &Seafloor) -> f64 {
+        self.lit
+            .iter()
+            .map(|&(a, b)| floor.length_between(a, b))
+            .sum()
+    }
+
+    /// Lit share of the floor's length (0 to 1): insonification by length, not by vertex.
+    pub fn length_fraction(&self, floor: &Seafloor) -> f64 {
+        let l = floor.length();
+        if l > 0.0 {
+            (self.lit_length(floor) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The floor from its first to its last vertex as alternating lit and shadowed pieces,
+    /// split at the shadow edges (pieces of zero length left out).
+    pub fn spans(&self, floor: &Seafloor) -> Vec<Span> {
+        let end = (floor.len() - 1) as f64;
+        let mut out = Vec::new();
+        let mut push = |a: f64, b: f64, lit: bool| {
+            let length = floor.length_between(a, b);
+            if length > 0.0 {
+                out.push(Span {
+                    from: floor.point_at(a),
+                    to: floor.point_at(b),
+                    length,
+                    lit,
+                });
+            }
+        };
+        let mut at = 0.0;
+        for &(a, b) in &self.lit {
+            push(at, a, false);
+            push(a, b, true);
+            at = b;
+        }
+        push(at, end, false);
+        out
     }
 
     /// Normal-incidence reflection coefficient at vertex `v` (None without an impedance).
@@ -267,10 +349,18 @@ fn grazing_at(floor: &Seafloor, v: usize, dir: (f64, f64)) -> f64 {
         .to_degrees()
 }
 
-/// Marks the vertices between two hits on the same or adjacent segments.
-fn mark(floor: &Seafloor, arr: &mut [Option<Arrival>], a: &Hit, b: &Hit) {
+/// Marks the vertices between two hits on the same or adjacent segments, and the stretch of
+/// floor between them as lit.
+fn mark(
+    floor: &Seafloor,
+    arr: &mut [Option<Arrival>],
+    lit: &mut Vec<(f64, f64)>,
+    a: &Hit,
+    b: &Hit,
+) {
     let (pa, pb) = (a.seg as f64 + a.u, b.seg as f64 + b.u);
     let (lo, hi) = (pa.min(pb), pa.max(pb));
+    lit.push((lo, hi));
     let first = lo.ceil() as usize;
     let last = (hi.floor() as usize).min(arr.len() - 1);
     for v in first..=last {
@@ -366,7 +456,9 @@ pub fn insonify(
         edges: 0,
         truncated: false,
         max_snell_drift: 0.0,
+        lit: Vec::new(),
     };
+    let mut stretches = Vec::new();
     let trace = |t: f64, out: &mut Insonification| -> Option<Hit> {
         let (x, z, a) = fan.launch(t);
         let r = tracer.trace_unchecked(x, z, a, &o);
@@ -388,7 +480,7 @@ pub fn insonify(
     while let Some((ta, ha, tb, hb, depth)) = stack.pop() {
         match (&ha, &hb) {
             (Some(a), Some(b)) if a.seg.abs_diff(b.seg) <= 1 => {
-                mark(floor, &mut out.arrivals, a, b);
+                mark(floor, &mut out.arrivals, &mut stretches, a, b);
                 continue;
             }
             (None, None) => continue,
@@ -410,6 +502,7 @@ pub fn insonify(
         stack.push((tm, hm, tb, hb, depth + 1));
         stack.push((ta, ha, tm, hm, depth + 1));
     }
+    out.lit = merge(stretches);
     Ok(out)
 }
 
@@ -468,6 +561,130 @@ pub fn visibility(floor: &Seafloor, light: Light) -> Vec<bool> {
     lit
 }
 
+/// The floor positions `[t0, t1]` of one segment piece whose key (the tangent of the
+/// depression angle from a point source, or the depth along a plane wave) runs monotonically
+/// from `k0` at `ts` to `k1` at 1 and lies in `[lo, hi]`, `solve(k)` giving the position of key
+/// `k`; only a piece whose key falls (it faces the light) can be seen over its length.
+fn seen(
+    ts: f64,
+    k0: f64,
+    k1: f64,
+    lo: f64,
+    hi: f64,
+    solve: impl Fn(f64) -> f64,
+) -> Option<(f64, f64)> {
+    let tol = 1e-12 * (1.0 + k0.abs());
+    if k0.is_finite() && (k1 - k0).abs() <= tol {
+        // along the line of sight (grazing): seen when nothing nearer is higher
+        let hi = hi + 1e-12 * (1.0 + hi.abs());
+        return (k0 >= lo && k0 <= hi).then_some((ts, 1.0));
+    }
+    if k1 > k0 {
+        // rising: turned away from the light, seen only edge-on
+        return None;
+    }
+    if hi < k1 || lo > k0 {
+        return None;
+    }
+    let t0 = if hi >= k0 {
+        ts
+    } else {
+        solve(hi).clamp(ts, 1.0)
+    };
+    let t1 = if lo <= k1 {
+        1.0
+    } else {
+        solve(lo).clamp(ts, 1.0)
+    };
+    (t1 > t0).then_some((t0, t1))
+}
+
+/// The stretches of the floor in straight line of sight of `light` (floor positions, as
+/// [`Insonification::lit`]); with `cone = (lo, hi)` only the points towards +x of a point light
+/// whose depression angle has a tangent in `[lo, hi]` (a fan of launch angles). A point is in
+/// sight when its key (the tangent of its depression angle seen from a point light, or its
+/// depth along a plane wave) is at most the least key of the floor between it and the light;
+/// along a segment the key is monotonic, so each segment's seen part is one piece.
+pub fn visible_stretches(
+    floor: &Seafloor,
+    light: Light,
+    cone: Option<(f64, f64)>,
+) -> Vec<(f64, f64)> {
+    let (xs, zs) = (floor.xs(), floor.zs());
+    let nseg = xs.len() - 1;
+    let (lo, hi) = cone.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+    let mut out = Vec::new();
+    match light {
+        Light::Plane(angle) => {
+            let t = angle.to_radians().tan();
+            let mut best = f64::INFINITY;
+            for i in 0..nseg {
+                let a = zs[i] - xs[i] * t;
+                let b = (zs[i + 1] - zs[i]) - (xs[i + 1] - xs[i]) * t;
+                let (k0, k1) = (a, a + b);
+                if let Some((u0, u1)) = seen(0.0, k0, k1, lo, hi.min(best), |k| (k - a) / b) {
+                    out.push((i as f64 + u0, i as f64 + u1));
+                }
+                best = best.min(k0).min(k1);
+            }
+        }
+        Light::Point(x0, z0) => {
+            // towards +x, segment by segment from the source
+            let mut best = f64::INFINITY;
+            for i in 0..nseg {
+                let (xa, xb, za) = (xs[i], xs[i + 1], zs[i]);
+                if xb <= x0 {
+                    continue;
+                }
+                let (dx, dz) = (xb - xa, zs[i + 1] - za);
+                let ts = if xa >= x0 { 0.0 } else { (x0 - xa) / dx };
+                let key = |u: f64| {
+                    let d = xa + u * dx - x0;
+                    if d > 0.0 {
+                        (za + u * dz - z0) / d
+                    } else {
+                        f64::INFINITY
+                    }
+                };
+                let (k0, k1) = (key(ts), key(1.0));
+                let solve = |k: f64| (k * (xa - x0) - (za - z0)) / (dz - k * dx);
+                if let Some((u0, u1)) = seen(ts, k0, k1, lo, hi.min(best), solve) {
+                    out.push((i as f64 + u0, i as f64 + u1));
+                }
+                best = best.min(k0).min(k1);
+            }
+            if cone.is_none() {
+                // towards -x, segment by segment from the source, v running from the segment's
+                // end (v = 0) to its start
+                let mut best = f64::INFINITY;
+                for i in (0..nseg).rev() {
+                    let (xa, xb, zb) = (xs[i], xs[i + 1], zs[i + 1]);
+                    if xa >= x0 {
+                        continue;
+                    }
+                    let (dx, dz) = (xb - xa, zs[i + 1] - zs[i]);
+                    let vs = if xb <= x0 { 0.0 } else { (xb - x0) / dx };
+                    let key = |v: f64| {
+                        let d = x0 - (xb - v * dx);
+                        if d > 0.0 {
+                            (zb - v * dz - z0) / d
+                        } else {
+                            f64::INFINITY
+                        }
+                    };
+                    let (k0, k1) = (key(vs), key(1.0));
+                    let solve = |k: f64| (zb - z0 - k * (x0 - xb)) / (dz + k * dx);
+                    if let Some((v0, v1)) = seen(vs, k0, k1, lo, hi.min(best), solve) {
+                        out.push((i as f64 + 1.0 - v1, i as f64 + 1.0 - v0));
+                    }
+                    best = best.min(k0).min(k1);
+                }
+            }
+        }
+    }
+    merge(out)
+}
+
 /// Straight-line insonification: [`visibility`] with arrivals (grazing angle against the
 /// vertex normal, travel time at the constant speed `c`).
 pub fn straight_insonify(floor: &Seafloor, light: Light, c: f64) -> Insonification {
@@ -509,6 +726,7 @@ pub fn straight_insonify(floor: &Seafloor, light: Light, c: f64) -> Insonificati
         edges: 0,
         truncated: false,
         max_snell_drift: 0.0,
+        lit: visible_stretches(floor, light, None),
     }
 }
 
@@ -525,6 +743,20 @@ pub fn straight_insonify_fan(
     c: f64,
 ) -> Insonification {
     let mut ins = straight_insonify(floor, Light::Point(x, z), c);
+    let tan = |d: f64| {
+        if d >= 90.0 {
+            f64::INFINITY
+        } else if d <= -90.0 {
+            f64::NEG_INFINITY
+        } else {
+            d.to_radians().tan()
+        }
+    };
+    ins.lit = visible_stretches(
+        floor,
+        Light::Point(x, z),
+        Some((tan(min_deg), tan(max_deg))),
+    );
     const TOL_DEG: f64 = 1e-9;
     for a in &mut ins.arrivals {
         if a.is_some_and(|a| a.launch_deg < min_deg - TOL_DEG || a.launch_deg > max_deg + TOL_DEG) {
@@ -603,5 +835,108 @@ mod tests {
             );
         }
         assert!(ins.edges >= 1 && !ins.truncated);
+        // by length: the flat up to the block, its front face and top, and the flat from the
+        // shadow's end (x = 26.25) to the floor's end; the back face is turned away
+        let want = (20.0 - 5.0 / 60f64.to_radians().tan()) + 1.0 + 1.0 + (60.0 - 26.25);
+        let straight = straight_insonify_fan(&floor, 0.0, 5.0, 4.0, 60.0, 1500.0);
+        for (how, got) in [
+            ("rays", ins.lit_length(&floor)),
+            ("straight", straight.lit_length(&floor)),
+        ] {
+            assert!(
+                (got - want).abs() < 1e-6 * want,
+                "{how}: {got} m, want {want} m"
+            );
+        }
+        let spans = ins.spans(&floor);
+        let lit: f64 = spans.iter().filter(|s| s.lit).map(|s| s.length).sum();
+        let all: f64 = spans.iter().map(|s| s.length).sum();
+        assert!((all - floor.length()).abs() < 1e-9 && (lit - want).abs() < 1e-6 * want);
+        // the shadow behind the block starts at its top corner and ends at x = 26.25
+        let shadow = spans
+            .iter()
+            .find(|s| !s.lit && s.from.0 >= 21.0 - 1e-6)
+            .unwrap();
+
+        assert!((shadow.from.0 - 21.0).abs() < 1e-6 && (shadow.to.0 - 26.25).abs() < 1e-6);
+    }
+
+    /// A flat floor's lit length between the footprints of the steepest and the shallowest ray
+    /// of a fan from S, `h` above the floor: `h / tan(min) - h / tan(max)` (clipped to the
+    /// floor), whatever the vertices.
+    fn flat_floor_lit_fraction(vertices: usize, min_deg: f64, straight: bool) -> (f64, f64) {
+        let xs: Vec<f64> = (0..vertices)
+            .map(|i| 100.0 * i as f64 / (vertices - 1) as f64)
+            .collect();
+        let floor = Seafloor::new(xs, vec![12.0; vertices], vec![]).unwrap();
+        let ins = if straight {
+            straight_insonify_fan(&floor, 0.0, 10.0, min_deg, 20.0, 1500.0)
+        } else {
+            let p = SoundSpeed::Isovelocity(1500.0);
+            let t = Tracer::new(&p, &floor).unwrap();
+            let fan = Fan::Point {
+                x: 0.0,
+                z: 10.0,
+                min_deg,
+                max_deg: 20.0,
+                rays: 200,
+            };
+            insonify(&t, &fan, &InsonifyOptions::default()).unwrap()
+        };
+        (ins.length_fraction(&floor), ins.insonified_fraction())
+    }
+
+    #[test]
+    fn insonification_by_length_not_by_vertex() {
+        let footprint = |a: f64| (2.0 / a.to_radians().tan()).min(100.0);
+        for min_deg in [2.0, 1.0] {
+            let want = (footprint(min_deg) - footprint(20.0)) / 100.0;
+            for straight in [false, true] {
+                let (two, by_vertex) = flat_floor_lit_fraction(2, min_deg, straight);
+                let (fine, _) = flat_floor_lit_fraction(101, min_deg, straight);
+                // at 2 deg the two end points are not lit, yet half the floor is
+                if min_deg == 2.0 {
+                    assert_eq!(by_vertex, 0.0);
+                }
+                assert!((two - want).abs() < 1e-9, "{min_deg} deg: {two} vs {want}");
+                assert!(
+                    (fine - want).abs() < 1e-9,
+                    "{min_deg} deg: {fine} vs {want}"
+                );
+            }
+        }
+        // rays down to 1 deg reach the floor's end: 94.5 % of it is lit
+        let (f, _) = flat_floor_lit_fraction(2, 1.0, false);
+        assert!((f - 0.9451).abs() < 1e-4, "{f}");
+    }
+
+    #[test]
+    fn a_plane_wave_and_the_far_side_of_a_point() {
+        // a V-shaped trough: from a point above its middle both flanks are in sight; a plane
+        // wave from -x at 10 deg sees the far flank only (the near one falls away from it)
+        let floor = Seafloor::new(vec![0.0, 10.0, 20.0], vec![10.0, 11.0, 10.0], vec![]).unwrap();
+        let all = visible_stretches(&floor, Light::Point(10.0, 5.0), None);
+        assert_eq!(all, vec![(0.0, 2.0)]);
+        let plane = visible_stretches(&floor, Light::Plane(10.0), None);
+        assert_eq!(plane, vec![(0.0, 2.0)]);
+        // at 3 deg the near flank falls away and the rim at x = 0 shades the far flank up to
+        // u = (1 - 10 t) / (1 + 10 t), t = tan 3 deg
+        let steep = visible_stretches(&floor, Light::Plane(3.0), None);
+        let t = 3f64.to_radians().tan();
+        assert_eq!(steep.len(), 1);
+        assert!((steep[0].0 - (1.0 + (1.0 - 10.0 * t) / (1.0 + 10.0 * t))).abs() < 1e-12);
+        assert_eq!(steep[0].1, 2.0);
+        // a ridge seen from the left: its steep far flank is turned away, and it shades the
+        // flat beyond up to x = 15 (the line of sight over the crest, slope 4/20)
+        let ridge = Seafloor::new(
+            vec![0.0, 10.0, 12.0, 40.0],
+            vec![10.0, 9.0, 10.0, 10.0],
+            vec![],
+        )
+        .unwrap();
+        let seen = visible_stretches(&ridge, Light::Point(-10.0, 5.0), None);
+        assert_eq!(seen.len(), 2, "{seen:?}");
+        assert_eq!(seen[0], (0.0, 1.0));
+        assert!((seen[1].0 - (2.0 + 3.0 / 28.0)).abs() < 1e-12 && seen[1].1 == 3.0);
     }
 }
