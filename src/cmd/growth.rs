@@ -132,6 +132,68 @@ pub struct ConvergeArgs {
     /// No chatter on stderr.
     #[arg(long)]
     quiet: bool,
+    /// growth only: run part i of N of the study's runs (i in 0..N-1) and write their
+    /// records to --out-dir as growth_error_vs_time.part-i-of-N.json; then --gather.
+    #[arg(long, value_name = "i/N", conflicts_with = "gather")]
+    part: Option<String>,
+    /// growth only: draw the figure from the part files in --out-dir (every part of one N).
+    #[arg(long)]
+    gather: bool,
+}
+
+/// The records a part of the growth study writes.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct PartFile {
+    cellsurf_version: String,
+    seeds: usize,
+    part: cellsurf::engine::part::Part,
+    records: Vec<converge::RunRecord>,
+}
+
+/// Reads every part file of the growth study in `dir` and checks they belong together.
+fn gather_parts(dir: &Path, seeds: usize) -> Result<Vec<converge::RunRecord>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("--gather: reading --out-dir {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .is_some_and(|n| {
+                    n.starts_with("growth_error_vs_time.part-") && n.ends_with(".json")
+                })
+        })
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        bail!(
+            "--gather: no growth_error_vs_time.part-i-of-N.json in {}",
+            dir.display()
+        );
+    }
+    let mut records = Vec::new();
+    let mut count = None;
+    for f in &files {
+        let text =
+            std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
+        let p: PartFile = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a part file", f.display()))?;
+        if p.seeds != seeds {
+            bail!(
+                "{}: made with --seeds {}, gathering with --seeds {seeds}",
+                f.display(),
+                p.seeds
+            );
+        }
+        if *count.get_or_insert(p.part.count) != p.part.count {
+            bail!(
+                "{}: a part of {} parts among parts of {count:?}",
+                f.display(),
+                p.part.count
+            );
+        }
+        records.extend(p.records);
+    }
+    Ok(records)
 }
 
 /// The configuration: scenario file or scene defaults, then each given option.
@@ -485,8 +547,8 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
 pub fn converge(a: ConvergeArgs) -> Result<()> {
     conv::set_quiet(a.quiet);
     if a.study != "growth" {
-        if a.json || a.seeds != figures::CONVERGE_SEEDS {
-            bail!("--seeds and --json are for `converge growth` only");
+        if a.json || a.seeds != figures::CONVERGE_SEEDS || a.part.is_some() || a.gather {
+            bail!("--seeds, --json, --part and --gather are for `converge growth` only");
         }
         let name = format!("{}_error_vs_time", a.study);
         let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;
@@ -505,9 +567,32 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         bail!("--seeds = {} is out of range: 3 to 10000", a.seeds);
     }
     let t0 = Instant::now();
-    let curves = converge::converge_growth(a.seeds)?;
     std::fs::create_dir_all(&a.out_dir)
         .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
+    if let Some(p) = &a.part {
+        let part: cellsurf::engine::part::Part = p.parse()?;
+        let records = converge::growth_runs(a.seeds, part)?;
+        let path = a.out_dir.join(format!(
+            "growth_error_vs_time.part-{}-of-{}.json",
+            part.index, part.count
+        ));
+        let file = PartFile {
+            cellsurf_version: VERSION.into(),
+            seeds: a.seeds,
+            part,
+            records,
+        };
+        write_atomic(&path, serde_json::to_string_pretty(&file)?.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+        conv::wrote(&path);
+        return Ok(());
+    }
+    let curves = if a.gather {
+        let records = gather_parts(&a.out_dir, a.seeds)?;
+        converge::gather_growth(a.seeds, &records).map_err(|e| anyhow::anyhow!("--gather: {e}"))?
+    } else {
+        converge::converge_growth(a.seeds)?
+    };
     let name = "growth_error_vs_time";
     let out = a.out_dir.join(format!("{name}.png"));
     cellsurf::plot::set_png_parameters(Some(format!("figure = \"{name}\"")));

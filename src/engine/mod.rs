@@ -9,6 +9,8 @@
 //! - [`surface`]: [`Surface`](surface::Surface), the surface sites partitioned by their count
 //!   of occupied neighbours (the growth samplers' `O(1)` picks).
 //! - [`sumtree`]: [`SumTree`](sumtree::SumTree), partial sums for weighted selection.
+//! - [`part`]: [`Part`](part::Part), one share of a job split over independent processes
+//!   (`--part i/N`).
 //! - [`rng`]: [`Stream`](rng::Stream), the Xoshiro256++ stream every model draws from.
 //! - [`stats`]: mean and standard error over seeds, error-against-run-time points, power-law
 //!   slopes.
@@ -39,6 +41,7 @@
 
 pub mod io;
 pub mod lattice;
+pub mod part;
 pub mod rng;
 pub mod stats;
 pub mod sumtree;

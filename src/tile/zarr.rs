@@ -23,7 +23,6 @@
 //! Memory is one chunk per worker thread (a few MB), whatever the mosaic's size.
 
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -41,53 +40,7 @@ use crate::engine::zarr::{
 /// Values (elevation and volume) a chunk aims at: 2^20, 4 MB of float32.
 pub const CHUNK_VALUES: usize = 1 << 20;
 
-/// Part `index` of `count` (`--part i/N`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct Part {
-    /// This part, `0 .. count`.
-    pub index: usize,
-    /// Parts in all, at least 1.
-    pub count: usize,
-}
-
-impl Part {
-    /// The whole store, one process.
-    pub const WHOLE: Part = Part { index: 0, count: 1 };
-
-    /// The items `lo .. hi` of `n` this part owns (contiguous, balanced to one item).
-    pub fn range(&self, n: usize) -> std::ops::Range<usize> {
-        let at = |i: usize| ((i as u128 * n as u128) / self.count as u128) as usize;
-        at(self.index)..at(self.index + 1)
-    }
-}
-
-impl FromStr for Part {
-    type Err = TileError;
-    /// `i/N` with `N` in 1..=1000000 and `i` in 0..N-1.
-    fn from_str(s: &str) -> Result<Self, TileError> {
-        let bad = |why: String| TileError::range("--part", s, why);
-        let (i, n) = s
-            .split_once('/')
-            .ok_or_else(|| bad("i/N, e.g. 0/4 (part i of N, i in 0..N-1)".into()))?;
-        let n: usize = n
-            .trim()
-            .parse()
-            .map_err(|_| bad("i/N with N a whole number in 1..=1000000".into()))?;
-        if !(1..=1_000_000).contains(&n) {
-            return Err(bad("i/N with N in 1..=1000000".into()));
-        }
-        let i: usize = i.trim().parse().map_err(|_| {
-            bad(format!(
-                "i/N with i a whole number in 0..N-1 (0..={})",
-                n - 1
-            ))
-        })?;
-        if i >= n {
-            return Err(bad(format!("i/N with i in 0..N-1 (0..={})", n - 1)));
-        }
-        Ok(Part { index: i, count: n })
-    }
-}
+pub use crate::engine::part::Part;
 
 /// The chunk grid of a store.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
