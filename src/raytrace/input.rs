@@ -296,16 +296,10 @@ impl super::seafloor::SurfaceSampler for ZarrSurface {
     }
     /// Bilinear and periodic, as [`super::seafloor::Grid::elevation_at`].
     fn elevation(&mut self, x: f64, y: f64) -> Result<f64, RaytraceError> {
-        let gx = x / self.bin - 0.5;
-        let gy = y / self.bin - 0.5;
-        let (fx, fy) = (gx.floor(), gy.floor());
-        let (tx, ty) = (gx - fx, gy - fy);
-        let w = |i: f64, n: usize| (i as i64).rem_euclid(n as i64) as usize;
-        let (i0, j0) = (w(fx, self.nx), w(fy, self.ny));
-        let (i1, j1) = ((i0 + 1) % self.nx, (j0 + 1) % self.ny);
-        let (a, b) = (self.value(i0, j0)?, self.value(i1, j0)?);
-        let (c, d) = (self.value(i0, j1)?, self.value(i1, j1)?);
-        Ok((1.0 - ty) * ((1.0 - tx) * a + tx * b) + ty * ((1.0 - tx) * c + tx * d))
+        let k = super::seafloor::BilinearCell::at(x, y, self.bin, self.nx, self.ny);
+        let (a, b) = (self.value(k.i0, k.j0)?, self.value(k.i1, k.j0)?);
+        let (c, d) = (self.value(k.i0, k.j1)?, self.value(k.i1, k.j1)?);
+        Ok(k.blend(a, b, c, d))
     }
     fn impedance(&mut self, x: f64, y: f64) -> Result<Option<f64>, RaytraceError> {
         if !self.impedance {

@@ -425,16 +425,9 @@ impl Grid<'_> {
 
     /// Bilinear periodic elevation at (x, y) m.
     pub fn elevation_at(&self, x: f64, y: f64) -> f64 {
-        let gx = x / self.bin - 0.5;
-        let gy = y / self.bin - 0.5;
-        let (fx, fy) = (gx.floor(), gy.floor());
-        let (tx, ty) = (gx - fx, gy - fy);
-        let w = |i: f64, n: usize| (i as i64).rem_euclid(n as i64) as usize;
-        let (i0, j0) = (w(fx, self.nx), w(fy, self.ny));
-        let (i1, j1) = ((i0 + 1) % self.nx, (j0 + 1) % self.ny);
+        let c = BilinearCell::at(x, y, self.bin, self.nx, self.ny);
         let e = |i: usize, j: usize| self.elevation[j * self.nx + i];
-        (1.0 - ty) * ((1.0 - tx) * e(i0, j0) + tx * e(i1, j0))
-            + ty * ((1.0 - tx) * e(i0, j1) + tx * e(i1, j1))
+        c.blend(e(c.i0, c.j0), e(c.i1, c.j0), e(c.i0, c.j1), e(c.i1, c.j1))
     }
 
     /// Impedance of the column nearest to (x, y).
@@ -722,5 +715,45 @@ mod tests {
             g.section(SectionLine::Row { j: 0, tiles: 1 }, 0.02, 0.0)
                 .is_err()
         );
+    }
+}
+
+/// The four cells round a point of a periodic grid of bin-centred values, and its weights: the
+/// bilinear interpolation shared by every elevation grid (in memory or in a store).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BilinearCell {
+    /// Column and row of the lower-left cell.
+    pub i0: usize,
+    pub j0: usize,
+    /// Column and row of the upper-right cell (wrapped).
+    pub i1: usize,
+    pub j1: usize,
+    /// Fractions along x and y from the lower-left cell's centre.
+    pub tx: f64,
+    pub ty: f64,
+}
+
+impl BilinearCell {
+    /// The cell round (x, y) m on an `nx x ny` torus of bins `bin` m wide.
+    pub fn at(x: f64, y: f64, bin: f64, nx: usize, ny: usize) -> BilinearCell {
+        let gx = x / bin - 0.5;
+        let gy = y / bin - 0.5;
+        let (fx, fy) = (gx.floor(), gy.floor());
+        let w = |i: f64, n: usize| (i as i64).rem_euclid(n as i64) as usize;
+        let (i0, j0) = (w(fx, nx), w(fy, ny));
+        BilinearCell {
+            i0,
+            j0,
+            i1: (i0 + 1) % nx,
+            j1: (j0 + 1) % ny,
+            tx: gx - fx,
+            ty: gy - fy,
+        }
+    }
+
+    /// The interpolated value from the corners (i0, j0), (i1, j0), (i0, j1), (i1, j1).
+    pub fn blend(&self, a: f64, b: f64, c: f64, d: f64) -> f64 {
+        let (tx, ty) = (self.tx, self.ty);
+        (1.0 - ty) * ((1.0 - tx) * a + tx * b) + ty * ((1.0 - tx) * c + tx * d)
     }
 }
