@@ -47,12 +47,114 @@ assert float(top) == np.nanmax(v)
 print("ok", blocks, float(mean), float(std))
 "#;
 
-#[test]
-fn xarray_and_dask_read_the_tile_store() {
-    if std::env::var("CELLSURF_SKIP_PYTHON").is_ok_and(|v| v == "1") {
+/// The ripple store: `elevation(time, y, x)` and the volume fields on `(z, y, x)`, equal to
+/// the `.npy` output of the same run.
+const RIPPLE_SCRIPT: &str = r#"
+import sys, warnings
+warnings.simplefilter("error")
+import numpy as np, xarray as xr
+store, npy, vol = sys.argv[1], sys.argv[2], sys.argv[3]
+ds = xr.open_zarr(store)
+assert ds.elevation.dims == ("time", "y", "x"), ds.elevation.dims
+assert ds.porosity.dims == ("z", "y", "x"), ds.porosity.dims
+assert ds.elevation.attrs["units"] == "m" and ds.z.attrs["units"] == "m"
+assert ds.attrs["param_seed"] == 9 and ds.attrs["steps_done"] == 200, ds.attrs
+assert list(ds.time.values) == [0.0, 100.0, 200.0], ds.time.values
+e, v = np.load(npy), np.load(vol)
+assert np.array_equal(ds.elevation.values, e), "elevation differs from the npy output"
+assert np.array_equal(np.isnan(ds.porosity.values), np.isnan(v))
+assert np.array_equal(np.nan_to_num(ds.porosity.values), np.nan_to_num(v))
+print("ok", ds.porosity.shape)
+"#;
+
+/// Whether the Python checks are skipped (`CELLSURF_SKIP_PYTHON=1`), saying so.
+fn skipped() -> bool {
+    let skip = std::env::var("CELLSURF_SKIP_PYTHON").is_ok_and(|v| v == "1");
+    if skip {
         eprintln!(
             "SKIPPED: CELLSURF_SKIP_PYTHON=1, the Zarr store is not checked with xarray and Dask"
         );
+    }
+    skip
+}
+
+/// Runs `script` with `args` under the interpreter of the module docs; fails unless it exits 0.
+fn run_python(script: &str, args: &[String]) -> std::process::Output {
+    let venv = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/py-venv/bin/python");
+    let python = std::env::var("CELLSURF_PYTHON").unwrap_or_else(|_| {
+        if venv.exists() {
+            venv.display().to_string()
+        } else {
+            "python3".into()
+        }
+    });
+    let out = Command::new(&python)
+        .arg("-c")
+        .arg(script)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| {
+            panic!("cannot run {python} ({e}): set CELLSURF_PYTHON, or CELLSURF_SKIP_PYTHON=1")
+        });
+    assert!(
+        out.status.success(),
+        "{python} failed (numpy, zarr, xarray and dask are needed; .ci/run installs them; CELLSURF_SKIP_PYTHON=1 skips):\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+#[test]
+fn xarray_reads_the_ripple_store() {
+    if skipped() {
+        return;
+    }
+    let dir = common::tmp_in("zarr-python-ripple", "x");
+    let dir = dir.parent().unwrap();
+    let store = dir.join("r.zarr");
+    let npy = dir.join("r.npy");
+    for out in [&store, &npy] {
+        let o = out.display().to_string();
+        let r = cellsurf(&[
+            "ripple",
+            "--size",
+            "40x16",
+            "--layers",
+            "8",
+            "--steps",
+            "200",
+            "--snapshots",
+            "0,100,200",
+            "--seed",
+            "9",
+            "--fields",
+            "elevation,porosity",
+            "--quiet",
+            "--out",
+            &o,
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    let out = run_python(
+        RIPPLE_SCRIPT,
+        &[
+            store.display().to_string(),
+            npy.display().to_string(),
+            dir.join("r_porosity.npy").display().to_string(),
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("ok (") && text.contains(", 16, 40)"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&store).unwrap();
+}
+
+#[test]
+fn xarray_and_dask_read_the_tile_store() {
+    if skipped() {
         return;
     }
     let dir = common::tmp_in("zarr-python", "x");
@@ -94,29 +196,13 @@ fn xarray_and_dask_read_the_tile_store() {
         let r = cellsurf(&a);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     }
-    let venv = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/py-venv/bin/python");
-    let python = std::env::var("CELLSURF_PYTHON").unwrap_or_else(|_| {
-        if venv.exists() {
-            venv.display().to_string()
-        } else {
-            "python3".into()
-        }
-    });
-    let out = Command::new(&python)
-        .arg("-c")
-        .arg(SCRIPT)
-        .arg(&store)
-        .arg(&npy)
-        .arg(dir.join("m_impedance.npy"))
-        .output()
-        .unwrap_or_else(|e| {
-            panic!("cannot run {python} ({e}): set CELLSURF_PYTHON, or CELLSURF_SKIP_PYTHON=1")
-        });
-    assert!(
-        out.status.success(),
-        "{python} failed (numpy, zarr, xarray and dask are needed; .ci/run installs them; CELLSURF_SKIP_PYTHON=1 skips):\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
+    let out = run_python(
+        SCRIPT,
+        &[
+            store.display().to_string(),
+            npy.display().to_string(),
+            dir.join("m_impedance.npy").display().to_string(),
+        ],
     );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.starts_with("ok (3, 3)"), "{text}");

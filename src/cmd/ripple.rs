@@ -1,5 +1,5 @@
 //! `cellsurf ripple`: runs the sand-ripple volume generator ([`cellsurf::ripple`]) and writes
-//! the volume as NetCDF-3 or `.npy` files; `--json` prints a summary.
+//! the volume as NetCDF-3, `.npy` files or a Zarr v3 store; `--json` prints a summary.
 //!
 //! Parameters come from the defaults (the paper's Fig. 3 situation), then a `--scenario`
 //! TOML file (`model = "ripple"` and the same keys as the options, with underscores; unknown
@@ -107,9 +107,9 @@ pub struct Args {
     /// Old spelling: netcdf or npy, with --out a file stem (kept for one release).
     #[arg(long, hide = true)]
     format: Option<Format>,
-    /// Output file; the extension picks the format: .nc (NetCDF-3, CF-style) or .npy
+    /// Output file; the extension picks the format: .nc (NetCDF-3, CF-style), .npy
     /// (NAME.npy the elevation snapshots, NAME_FIELD.npy each volume field, NAME.json the
-    /// parameters). Without it nothing is written: the run is measured only (see --json).
+    /// parameters) or .zarr (a Zarr v3 store for xarray, written whole then renamed). Without it nothing is written: the run is measured only (see --json).
     #[arg(long, value_name = "FILE")]
     out: Vec<PathBuf>,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
@@ -203,12 +203,17 @@ pub fn run(a: Args) -> Result<()> {
         return Ok(());
     }
     let outs = match a.format {
-        None => Outputs::new(&a.out, "ripple", &[ConvFormat::Nc, ConvFormat::Npy])?,
+        None => Outputs::new(
+            &a.out,
+            "ripple",
+            &[ConvFormat::Nc, ConvFormat::Npy, ConvFormat::Zarr],
+        )?,
         Some(f) => {
             // Old spelling (one release): `--format npy --out STEM`, the extension replaced.
             let fmt = match f {
                 Format::NetCdf => ConvFormat::Nc,
                 Format::Npy => ConvFormat::Npy,
+                Format::Zarr => ConvFormat::Zarr,
             };
             let mut o = Outputs::default();
             let path = a.out.first().map(|p| p.with_extension(fmt.ext()));
@@ -216,13 +221,20 @@ pub fn run(a: Args) -> Result<()> {
             o
         }
     };
-    if outs.get(ConvFormat::Nc).is_some() && outs.get(ConvFormat::Npy).is_some() {
-        bail!("--out: one volume file per run (.nc or .npy)");
+    let given: Vec<(&std::path::Path, Format)> = [
+        (ConvFormat::Nc, Format::NetCdf),
+        (ConvFormat::Npy, Format::Npy),
+        (ConvFormat::Zarr, Format::Zarr),
+    ]
+    .into_iter()
+    .filter_map(|(c, f)| outs.get(c).map(|p| (p, f)))
+    .collect();
+    if given.len() > 1 {
+        bail!("--out: one volume output per run (.nc, .npy or .zarr)");
     }
-    let (out, format) = match (outs.get(ConvFormat::Nc), outs.get(ConvFormat::Npy)) {
-        (Some(p), _) => (Some(p.to_path_buf()), Format::NetCdf),
-        (None, Some(p)) => (Some(p.to_path_buf()), Format::Npy),
-        _ => (None, Format::NetCdf),
+    let (out, format) = match given.first() {
+        Some(&(p, f)) => (Some(p.to_path_buf()), f),
+        None => (None, Format::NetCdf),
     };
     let mut fields: Vec<Field> = match &a.fields {
         Some(f) => f.clone(),
@@ -251,7 +263,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
 
-    if let Some(out) = &out {
+    if let Some(out) = out.as_ref().filter(|_| format != Format::Zarr) {
         cellsurf::engine::io::check_output("--out", out)?;
     }
 
@@ -287,6 +299,10 @@ pub fn run(a: Args) -> Result<()> {
                 written.push(out.clone());
             }
             Format::Npy => written.extend(write_npy(out, &r, &snaps, &spec)?),
+            Format::Zarr => {
+                cellsurf::ripple::zarr::write_zarr(out, &r, &snaps, &spec)?;
+                written.push(out.clone());
+            }
         }
     }
     for w in &written {

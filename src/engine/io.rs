@@ -61,11 +61,16 @@ pub fn short(text: &str) -> String {
     }
 }
 
-/// Deletes every temporary file being written (for an interrupted run).
+/// Deletes every temporary file (or temporary store folder) being written (for an
+/// interrupted run).
 pub fn remove_live_temporaries() {
     if let Ok(live) = LIVE.lock() {
         for p in live.iter() {
-            let _ = fs::remove_file(p);
+            if p.is_dir() {
+                let _ = fs::remove_dir_all(p);
+            } else {
+                let _ = fs::remove_file(p);
+            }
         }
     }
 }

@@ -95,6 +95,30 @@ pub struct ArraySpec {
 }
 
 impl ArraySpec {
+    /// A float32 data array `name(dims)` of `shape` in `chunks`, with CF `units` and
+    /// `long_name` (and a `comment` when not empty).
+    pub fn data_f32(
+        name: &str,
+        dims: &[&str],
+        shape: &[usize],
+        chunks: &[usize],
+        (units, long): (&str, &str),
+        comment: &str,
+    ) -> ArraySpec {
+        let mut a = attrs(&[("units", units), ("long_name", long)]);
+        if !comment.is_empty() {
+            a.insert("comment".into(), Value::from(comment));
+        }
+        ArraySpec {
+            name: name.into(),
+            shape: shape.iter().map(|&n| n as u64).collect(),
+            chunks: chunks.iter().map(|&n| n as u64).collect(),
+            dims: dims.iter().map(|d| d.to_string()).collect(),
+            dtype: Dtype::F32,
+            attrs: a,
+        }
+    }
+
     /// Chunks along each axis.
     pub fn grid(&self) -> Vec<u64> {
         self.shape
@@ -555,6 +579,67 @@ pub fn remove_temporaries_in(dir: &Path, mine: impl Fn(&str) -> bool) -> usize {
         }
     }
     n
+}
+
+/// A TOML value (a scenario parameter) as a JSON attribute value: numbers stay numbers,
+/// non-finite floats and arrays or tables become their text.
+pub fn toml_to_json(v: &toml::Value) -> Value {
+    match v {
+        toml::Value::String(s) => Value::String(s.clone()),
+        toml::Value::Integer(i) => Value::from(*i),
+        toml::Value::Float(f) if f.is_finite() => Value::from(*f),
+        toml::Value::Float(f) => Value::String(f.to_string()),
+        toml::Value::Boolean(b) => Value::Bool(*b),
+        other => Value::String(other.to_string()),
+    }
+}
+
+/// Writes a whole store at `root` as one output: `fill` writes it into a temporary sibling
+/// folder (`.NAME.tmp-PID`), which replaces `root` only when `fill` succeeded, so a reader
+/// never sees a half-written store. An existing `root` must itself be a Zarr store (it has a
+/// `zarr.json`); any other folder or file there is refused, never deleted. On error the
+/// temporary folder is removed and `root` is left as it was.
+pub fn replace_store<F>(root: &Path, fill: F) -> Result<(), ZarrError>
+where
+    F: FnOnce(&Path) -> Result<(), ZarrError>,
+{
+    let parent = match root.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        return Err(io(root.display(), "the folder does not exist"));
+    }
+    match std::fs::symlink_metadata(root) {
+        Ok(m) if m.is_dir() && root.join("zarr.json").is_file() => {}
+        Ok(_) => {
+            return Err(io(
+                root.display(),
+                "exists and is not a Zarr store; remove it or choose another name",
+            ));
+        }
+        Err(_) => {}
+    }
+    let tmp = crate::engine::io::temp_path(root);
+    let _ = std::fs::remove_dir_all(&tmp);
+    let guard = crate::engine::io::TempFile::new(root);
+    let result = fill(&tmp).and_then(|()| {
+        let old = tmp.with_extension("old");
+        let had = root.exists();
+        if had {
+            std::fs::rename(root, &old).map_err(|e| io(root.display(), e))?;
+        }
+        std::fs::rename(&tmp, root).map_err(|e| io(root.display(), e))?;
+        if had {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        Ok(())
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    drop(guard);
+    result
 }
 
 /// Attributes from `(name, value)` pairs of strings.

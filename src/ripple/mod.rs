@@ -13,7 +13,8 @@
 //!   height, ripple index, slopes, crest/trough grain size.
 //! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
 //! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically;
-//!   [`input`] reads the NetCDF files back ([`input::RippleFile`]).
+//!   `zarr` (feature `zarr`) the same variables as a chunked Zarr v3 store; [`input`] reads
+//!   the NetCDF files back ([`input::RippleFile`]).
 //! - `figures` (feature `plot`): the paper's Figs. 2, 3, 4, 7, 8 and an error-versus-time
 //!   chart, listed in [`FIGURES`].
 //!
@@ -50,6 +51,8 @@ pub mod rules;
 pub mod spectrum;
 pub mod volume;
 pub mod water;
+#[cfg(feature = "zarr")]
+pub mod zarr;
 
 pub use compaction::Compaction;
 pub use grain::GrainClasses;

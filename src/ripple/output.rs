@@ -106,6 +106,8 @@ pub enum Format {
     NetCdf,
     /// One `.npy` per field and a `.json` sidecar.
     Npy,
+    /// A Zarr v3 store (a folder; feature `zarr`, [`super::zarr`]).
+    Zarr,
 }
 
 impl FromStr for Format {
@@ -114,10 +116,11 @@ impl FromStr for Format {
         match s {
             "netcdf" | "nc" => Ok(Format::NetCdf),
             "npy" => Ok(Format::Npy),
+            "zarr" => Ok(Format::Zarr),
             _ => Err(RippleError::Unknown {
                 parameter: "format",
                 value: s.to_string(),
-                expected: "netcdf or npy",
+                expected: "netcdf, npy or zarr",
             }),
         }
     }

@@ -146,7 +146,8 @@ pub fn estimate_bytes(src: &dyn RowSource, spec: &StreamSpec) -> u64 {
     let header = 4096 + 64 * spec.params.len() as u64;
     match spec.format {
         StreamFormat::NetCdf => header + 4 * w + 4 * nz + h * (4 + 4 * w + 4 * nz * w),
-        StreamFormat::Npy => header + 4 * w * h * (1 + nz),
+        // a Zarr store is compressed: the uncompressed size bounds it
+        StreamFormat::Npy | StreamFormat::Zarr => header + 4 * w * h * (1 + nz),
     }
 }
 
@@ -258,6 +259,13 @@ pub fn write_stream(
             vec![path.to_path_buf()]
         }
         StreamFormat::Npy => write_npy_stream(path, src, spec, nz, &mut meter, progress)?,
+        StreamFormat::Zarr => {
+            return Err(TileError::range(
+                "format",
+                "zarr",
+                "netcdf or npy for a single-file stream (Zarr stores are written chunk by chunk by tile::zarr::write_zarr)",
+            ));
+        }
     };
     let bytes = files
         .iter()

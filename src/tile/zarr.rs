@@ -34,7 +34,7 @@ use super::TileError;
 use super::stream::{RowSource, StreamSpec};
 use crate::engine::VERSION;
 use crate::engine::zarr::{
-    ArraySpec, ChunkState, Dtype, Store, ZarrError, attrs, remove_temporaries_in,
+    ArraySpec, ChunkState, Dtype, Store, ZarrError, attrs, remove_temporaries_in, toml_to_json,
 };
 
 /// Values (elevation and volume) a chunk aims at: 2^20, 4 MB of float32.
@@ -157,17 +157,6 @@ fn zerr(e: ZarrError) -> TileError {
     }
 }
 
-fn toml_to_json(v: &toml::Value) -> Value {
-    match v {
-        toml::Value::String(s) => Value::String(s.clone()),
-        toml::Value::Integer(i) => Value::from(*i),
-        toml::Value::Float(f) if f.is_finite() => Value::from(*f),
-        toml::Value::Float(f) => Value::String(f.to_string()),
-        toml::Value::Boolean(b) => Value::Bool(*b),
-        other => Value::String(other.to_string()),
-    }
-}
-
 /// The root group's attributes: CF provenance, every parameter as `param_NAME` and the chunk
 /// layout (nothing that depends on the part or the time).
 fn group_attrs(src: &dyn RowSource, spec: &StreamSpec, layout: &ZarrLayout) -> Map<String, Value> {
@@ -251,17 +240,14 @@ fn array_specs(spec: &StreamSpec, layout: &ZarrLayout) -> Vec<ArraySpec> {
         );
         z.attrs.insert("positive".into(), Value::from("up"));
         v.push(z);
-        let (units, long) = f.meta();
-        let mut a = attrs(&[("units", units), ("long_name", long)]);
-        a.insert("comment".into(), Value::from("NaN above the bed"));
-        v.push(ArraySpec {
-            name: f.name().into(),
-            shape: vec![h as u64, nz as u64, w as u64],
-            chunks: vec![cy as u64, nz as u64, cx as u64],
-            dims: vec!["y".into(), "z".into(), "x".into()],
-            dtype: Dtype::F32,
-            attrs: a,
-        });
+        v.push(ArraySpec::data_f32(
+            f.name(),
+            &["y", "z", "x"],
+            &[h, nz, w],
+            &[cy, nz, cx],
+            f.meta(),
+            "NaN above the bed",
+        ));
     }
     v
 }
