@@ -3,8 +3,11 @@
 //! (Eqs. 9-10).
 //!
 //! **Directions.** The rules are written for a current along +x; here "forward" is the Moore
-//! octant `k` nearest the flow direction, drawn per activation by stochastic rounding between
-//! the two octants around the flow angle (so the mean direction is the flow's, for any angle).
+//! octant `k` nearest the flow direction, drawn per activation between the two octants around
+//! the flow angle with the probabilities of [`upper_octant_probability`], so that on a flat
+//! bed the mean displacement of a grain points along the flow, for any angle. Equally cheap
+//! cells are equally likely: in Eq. (10) per move, in Eq. (8) per roll (a rolling grain keeps
+//! to one side of the obstacles it skirts).
 //! The three forward cells of Eq. (8) are octants `k-1, k, k+1`; the upstream cell `x-1` is
 //! octant `k+4`; the creep sets of Eqs. (9)-(10) are `k+3, k+4, k+5` (upstream) and
 //! `k-2, k+2, k` (lateral and forward, the "reduced von Neumann neighbourhood").
@@ -46,8 +49,12 @@ use super::params::Abstraction;
 use super::water::Flow;
 use crate::engine::lattice::MOORE;
 
-/// The ways the grain can go from a cell, as octant offsets from the forward octant.
-const FORWARD_3D: [usize; 3] = [7, 0, 1];
+/// The ways the grain can go from a cell, as octant offsets from the forward octant, in the
+/// order that breaks ties (the first of equally cheap cells wins): the forward octant, then
+/// the counter-clockwise side, then the clockwise side.
+const FORWARD_3D: [usize; 3] = [0, 1, 7];
+/// The same, breaking ties towards the clockwise side.
+const FORWARD_3D_MIRRORED: [usize; 3] = [0, 7, 1];
 
 impl Ripple {
     /// The column in octant `k` (0 = +x, counter-clockwise, the order of the engine's
@@ -89,7 +96,8 @@ impl Ripple {
         }
     }
 
-    /// The forward octant for one activation (stochastic rounding of the flow angle).
+    /// The forward octant for one activation: stochastic rounding between the two octants
+    /// around the flow angle (module docs, "Directions").
     #[inline]
     pub(crate) fn pick_octant(&mut self, flow: &Flow) -> usize {
         if self.two_d {
@@ -97,8 +105,8 @@ impl Ripple {
             return if c >= 0.0 { 0 } else { 4 };
         }
         let k0 = flow.octant.floor();
-        let frac = flow.octant - k0;
-        let up = frac > 0.0 && self.rng.random::<f64>() < frac;
+        let p = upper_octant_probability(flow.octant - k0, k0 as usize);
+        let up = p > 0.0 && self.rng.random::<f64>() < p;
         (k0 as usize + up as usize) % 8
     }
 
@@ -179,6 +187,25 @@ impl Ripple {
         true
     }
 
+    /// Whether a candidate costing `cost` replaces the best so far (`best`, `None` before the
+    /// first): when it is cheaper, or, among `ties` equally cheap candidates, with probability
+    /// `1 / ties` (reservoir sampling), so that equally cheap cells are equally likely whatever
+    /// order they are looked at in.
+    #[inline]
+    fn cheaper(&mut self, best: Option<f64>, cost: f64, ties: &mut u32) -> bool {
+        match best {
+            Some(b) if cost > b => false,
+            Some(b) if cost == b => {
+                *ties += 1;
+                self.rng.random_range(0..*ties) == 0
+            }
+            _ => {
+                *ties = 1;
+                true
+            }
+        }
+    }
+
     /// Energy Delta e (units of m g', m) of one space step to octant `o` rising `dh` metres
     /// (Eqs. 1, 4, 7).
     #[inline]
@@ -202,16 +229,20 @@ impl Ripple {
         let mut spent = 0.0;
         let mut hops = 0usize;
         let max_hops = self.nx + self.ny;
-        let options: &[usize] = if self.two_d { &[0] } else { &FORWARD_3D };
-        let first = if options.len() > 1 {
-            self.rng.random_range(0..options.len())
+        // Eq. (8): the cheapest forward cell. Equally cheap cells (the two sides of the forward
+        // octant) are broken towards one side for the whole roll, the side drawn per roll with
+        // probability 1/2, so a grain skirts an obstacle on one side, either side equally often.
+        let options: &[usize] = if self.two_d {
+            &[0]
+        } else if self.rng.random::<bool>() {
+            &FORWARD_3D
         } else {
-            0
+            &FORWARD_3D_MIRRORED
         };
         loop {
             let mut best: Option<(f64, usize, usize)> = None;
-            for i in 0..options.len() {
-                let o = (k + options[(first + i) % options.len()]) % 8;
+            for &off in options {
+                let o = (k + off) % 8;
                 let n = self.nb(p, o);
                 if self.vol.is_full(n) {
                     continue;
@@ -307,12 +338,15 @@ impl Ripple {
         if up_min as f64 > limit {
             return false; // Eq. (9): not exposed enough
         }
-        let first = self.rng.random_range(0..set.len());
         let mut best: Option<(usize, usize)> = None;
-        for i in 0..set.len() {
-            let n = self.nb(c, k + set[(first + i) % set.len()]);
+        let mut ties = 0u32;
+        for &o in set {
+            let n = self.nb(c, k + o);
             let hn = self.vol.height(n);
-            if n != c && !self.vol.is_full(n) && best.is_none_or(|(b, _)| hn < b) {
+            if n != c
+                && !self.vol.is_full(n)
+                && self.cheaper(best.map(|b| b.0 as f64), hn as f64, &mut ties)
+            {
                 best = Some((hn, n));
             }
         }
@@ -326,6 +360,29 @@ impl Ripple {
         self.relax(&[c as u32], &[n as u32]);
         true
     }
+}
+
+/// The probability of the upper of the two octants `k0` and `k0 + 1` around a flow at
+/// `frac` (0..1) of the way from `k0` to `k0 + 1`, such that the mean displacement of a grain
+/// on a flat bed points along the flow. On a flat bed Eq. (8) sends a grain of an axis octant
+/// along that axis, and a grain of a diagonal octant along one of the two axes beside it
+/// (they are cheaper than the diagonal), equally likely: the mean step of octant `k` is
+/// `w_k (cos k pi/4, sin k pi/4)` bins with `w = 1` on the axes and `1/sqrt 2` on the
+/// diagonals. Mixing octants `a = k0` and `b = k0 + 1` with probabilities `1 - p` and `p`
+/// gives a mean along the flow angle `phi = frac pi/4` past `a` when
+/// `p = w_a sin(phi) / (w_a sin(phi) + w_b sin(pi/4 - phi))`.
+pub fn upper_octant_probability(frac: f64, k0: usize) -> f64 {
+    if frac <= 0.0 {
+        return 0.0;
+    }
+    let (wa, wb) = if k0.is_multiple_of(2) {
+        (1.0, std::f64::consts::FRAC_1_SQRT_2)
+    } else {
+        (std::f64::consts::FRAC_1_SQRT_2, 1.0)
+    };
+    let phi = frac * std::f64::consts::FRAC_PI_4;
+    let a = wa * phi.sin();
+    a / (a + wb * (std::f64::consts::FRAC_PI_4 - phi).sin())
 }
 
 /// Eq. (1) (second form) and Eq. (7): the length of one space step,
@@ -524,5 +581,76 @@ mod tests {
         }
         let mut r3 = Ripple::from_heights(&p, &h3).unwrap();
         assert!(!r3.creep(12, 0));
+    }
+
+    #[test]
+    fn octant_probability_points_the_flat_bed_mean_along_the_flow() {
+        for k0 in 0..8 {
+            assert_eq!(upper_octant_probability(0.0, k0), 0.0);
+            assert!((upper_octant_probability(1.0, k0) - 1.0).abs() < 1e-15);
+        }
+        for i in 1..20 {
+            let f = i as f64 / 20.0;
+            // mirror symmetry: from an axis towards a diagonal, and back from the diagonal
+            let (pe, po) = (
+                upper_octant_probability(f, 0),
+                upper_octant_probability(1.0 - f, 1),
+            );
+            assert!((pe + po - 1.0).abs() < 1e-12, "{f}: {pe} {po}");
+            // the mixed mean step (1 - p) (1, 0) + p (1/2, 1/2) points at f x 45 deg
+            let ang = (pe / 2.0).atan2(1.0 - pe / 2.0);
+            assert!((ang - f * std::f64::consts::FRAC_PI_4).abs() < 1e-12);
+        }
+    }
+
+    /// The mean displacement of grains set off one at a time on a flat bed, as an angle
+    /// (degrees, 0..360), and the number of moves measured.
+    fn flat_bed_mean_direction(angle: f64, seed: u64, trials: usize) -> (f64, usize) {
+        let (nx, ny) = (32usize, 32usize);
+        let p = RippleParams {
+            nx,
+            ny,
+            sorting: 0.0,
+            roughness: 0,
+            current_angle: angle,
+            seed,
+            ..RippleParams::default()
+        };
+        let mut r = Ripple::from_heights(&p, &vec![10usize; nx * ny]).unwrap();
+        let f = r.flow_at(0);
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0);
+        let wrap = |d: i64, len: usize| {
+            let l = len as i64;
+            (d + l / 2).rem_euclid(l) - l / 2
+        };
+        for i in 0..trials {
+            let c = (i * 7919) % (nx * ny);
+            if !r.trigger(c, &f) {
+                continue;
+            }
+            let q = (0..nx * ny).find(|&q| r.vol.height(q) > 10).unwrap();
+            sx += wrap((q % nx) as i64 - (c % nx) as i64, nx) as f64;
+            sy += wrap((q / nx) as i64 - (c / nx) as i64, ny) as f64;
+            n += 1;
+            let a = r.vol.pop(q).unwrap();
+            r.vol.push(c, a);
+        }
+        (sy.atan2(sx).to_degrees().rem_euclid(360.0), n)
+    }
+
+    #[test]
+    fn mean_hop_direction_on_a_flat_bed_follows_the_current() {
+        // 3000 grains each: the angle of the mean has a standard error of about
+        // 1 / (hops x sqrt(n)) rad ~ 0.4 deg; 2 deg is 5 standard errors.
+        for step in 0..24 {
+            let angle = 15.0 * step as f64;
+            let (dir, n) = flat_bed_mean_direction(angle, 7 + step as u64, 3000);
+            assert!(n > 2500, "{angle}: only {n} grains moved");
+            let err = ((dir - angle + 180.0).rem_euclid(360.0) - 180.0).abs();
+            assert!(
+                err < 2.0,
+                "current {angle} deg: mean hop direction {dir:.2} deg"
+            );
+        }
     }
 }

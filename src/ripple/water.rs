@@ -20,7 +20,8 @@
 //!
 //! The water volume is a deterministic function of the bed, so it is evaluated lazily, for the
 //! column being asked about, from the bed as it is at that moment (looking upstream along the
-//! flow at most [`MAX_REACH`] bins): this is the paper's "recomputed after each step" in its
+//! flow as far as the shadow and recovery of the tallest crest reach, at most once around the
+//! torus): this is the paper's "recomputed after each step" in its
 //! asynchronous limit, and it keeps a step's cost proportional to its activations.
 //! [`WaterVolume::section`] computes the whole sliced field of a row for figures.
 
@@ -28,7 +29,9 @@ use std::f64::consts::PI;
 
 use super::params::RippleParams;
 
-/// How far upstream the water volume looks, bins.
+/// The upstream offsets a [`Flow`] tabulates, bins; further upstream they are computed as
+/// needed (the look-up itself reaches as far as the tallest crest's shadow and recovery,
+/// up to once around the torus).
 pub const MAX_REACH: usize = 64;
 
 /// The free-stream flow during one step.
@@ -182,12 +185,25 @@ impl WaterVolume {
         // (shadow + recovery + delay) x (slices between the level and hmax_bound) matters.
         let e_bound = ceil_div(hmax_bound.saturating_sub(j0 * t), t);
         let per = self.shadow_length + self.recovery_length + self.drag_delay;
-        let reach = (per * e_bound + 1).min(MAX_REACH);
-        // The upstream columns that rise above the level: only they can obstruct.
-        let mut obs: [(u16, u16); MAX_REACH] = [(0, 0); MAX_REACH];
-        let mut n = 0;
+        // Looking further than once around the torus would only meet the same columns again.
+        let reach = (per * e_bound + 1).min(nx + ny);
         let (nxi, nyi) = (nx as i32, ny as i32);
-        for (k, &(dx, dy)) in flow.upstream[..reach].iter().enumerate() {
+        let (c, sn) = (flow.angle.cos(), flow.angle.sin());
+        let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
+        let mut s: f64 = 1.0;
+        // Each upstream column that rises above the level obstructs the slices above the bed.
+        // Slice m above the bed's (level (j0 + m) t) sees obstruction (k, h) at distance
+        // k - m delay, e0 - m slices high, e0 = ceil((h - j0 t) / t), while m < e0 and
+        // m delay < k. Along m the ramp is a ratio of two linear functions of m, clamped to
+        // [0, 1]: monotone, so its minimum over the slices lies at the first or the last one.
+        for k in 0..reach {
+            let (dx, dy) = match flow.upstream.get(k) {
+                Some(&o) => o,
+                None => {
+                    let d = (k + 1) as f64;
+                    ((-d * c).round() as i32, (-d * sn).round() as i32)
+                }
+            };
             let mut xx = x as i32 + dx;
             let mut yy = y as i32 + dy;
             if xx < 0 || xx >= nxi {
@@ -197,25 +213,15 @@ impl WaterVolume {
                 yy = yy.rem_euclid(nyi);
             }
             let h = heights[yy as usize * nx + xx as usize] as usize;
-            if h > j0 * t {
-                // The bed slice is still within this obstruction's zero-speed zone: the minimum
-                // is zero whatever lies further upstream.
-                if k < self.shadow_length * ceil_div(h - j0 * t, t) {
-                    return 0.0;
-                }
-                obs[n] = ((k + 1) as u16, h as u16);
-                n += 1;
+            if h <= j0 * t {
+                continue;
             }
-        }
-        // Slice m above the bed's (level (j0 + m) t) sees obstruction (k, h) at distance
-        // k - m delay, e0 - m slices high, e0 = ceil((h - j0 t) / t), while m < e0 and
-        // m delay < k. Along m the ramp is a ratio of two linear functions of m, clamped to
-        // [0, 1]: monotone, so its minimum over the slices lies at the first or the last one.
-        let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
-        let mut s: f64 = 1.0;
-        for &(k, h) in &obs[..n] {
-            let (k, h) = (k as usize, h as usize);
             let e0 = ceil_div(h - j0 * t, t);
+            // The bed slice is within this obstruction's zero-speed zone.
+            if k < self.shadow_length * e0 {
+                return 0.0;
+            }
+            let k = k + 1;
             let mut last = e0 - 1;
             if self.drag_delay > 0 {
                 last = last.min(floor_div(k - 1, self.drag_delay));
@@ -279,6 +285,36 @@ mod tests {
         for x in 0..20 {
             assert_eq!(w.bed_speed(&h, 20, 1, x, 0, 10, &flow_x()), 1.0);
         }
+    }
+
+    #[test]
+    fn sect_2_3_shadows_longer_than_the_tabulated_look_up_are_whole() {
+        // a crest 100 slices above the bed: 100 bins of shadow, then 100 of recovery, far more
+        // than the MAX_REACH offsets a Flow tabulates
+        let w = WaterVolume {
+            slice_layers: 1,
+            shadow_length: 1,
+            recovery_length: 1,
+            drag_delay: 0,
+        };
+        let n = 400;
+        let mut h = vec![10u16; n];
+        h[20] = 110;
+        let f = flow_x();
+        let s = |x: usize| w.bed_speed(&h, n, 1, x, 0, 110, &f);
+        const { assert!(100 > MAX_REACH) };
+        assert_eq!(
+            s(20 + 90),
+            0.0,
+            "90 bins behind: still in the 100-bin shadow"
+        );
+        assert_eq!(s(20 + 100), 0.0);
+        let mid = s(20 + 150);
+        assert!(
+            mid > 0.3 && mid < 0.7,
+            "half-way through the recovery: {mid}"
+        );
+        assert_eq!(s(20 + 250), 1.0, "recovered");
     }
 
     #[test]
