@@ -54,8 +54,44 @@ pub fn make(f: &Figure, dir: &Path, remeasure: bool) -> Result<Vec<PathBuf>, Fig
         t.draw(&png)?;
         return Ok(vec![png]);
     }
+    measured(f, dir, || f.make(dir))
+}
+
+/// The studies that can be split into parts (`cellsurf converge STUDY --part i/N`), by the
+/// `cellsurf converge` argument ([`crate::engine::study`]).
+pub fn study(name: &str) -> Option<&'static dyn crate::engine::study::Study> {
+    match name {
+        "dunes" => Some(&crate::dunes::ErrorStudy),
+        "windripples" => Some(&crate::windripples::figures::ErrorStudy),
+        "ripple" => Some(&crate::ripple::figures::ErrorStudy),
+        _ => None,
+    }
+}
+
+/// Draws the measured figure of `study` from the `records` of all its runs (gathered from
+/// parts) into `dir`, with its table, as [`make`] does when it re-measures.
+pub fn draw_study(
+    study: &dyn crate::engine::study::Study,
+    records: &[toml::Value],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, FigureError> {
+    let name = format!("{}_error_vs_time", study.name());
+    let f = find(&name).ok_or_else(|| FigureError::Model(format!("no figure {name}")))?;
+    measured(f, dir, || {
+        study.draw(records, dir).map_err(FigureError::Model)
+    })
+}
+
+/// Runs `make` (which draws the measured figure `f` into `dir`) recording its charts, and
+/// writes the table of the chart drawn into `dir/NAME.png`.
+fn measured(
+    f: &Figure,
+    dir: &Path,
+    make: impl FnOnce() -> Result<Vec<PathBuf>, FigureError>,
+) -> Result<Vec<PathBuf>, FigureError> {
+    let png = dir.join(format!("{}.png", f.name));
     record_charts(true);
-    let made = f.make(dir);
+    let made = make();
     let recorded = record_charts(false);
     let mut files = made?;
     let (_, table) = recorded

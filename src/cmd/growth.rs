@@ -132,13 +132,90 @@ pub struct ConvergeArgs {
     /// No chatter on stderr.
     #[arg(long)]
     quiet: bool,
-    /// growth only: run part i of N of the study's runs (i in 0..N-1) and write their
-    /// records to --out-dir as growth_error_vs_time.part-i-of-N.json; then --gather.
-    #[arg(long, value_name = "i/N", conflicts_with = "gather")]
+    /// Run part i of N of the study's runs (i in 0..N-1) and write their records to
+    /// --out-dir (growth: growth_error_vs_time.part-i-of-N.json; dunes, ripple, windripples:
+    /// STUDY_error_vs_time.part-i-of-N.toml); then --gather. Not for raytrace.
+    #[arg(
+        long,
+        value_name = "i/N",
+        conflicts_with = "gather",
+        allow_hyphen_values = true
+    )]
     part: Option<String>,
-    /// growth only: draw the figure from the part files in --out-dir (every part of one N).
+    /// Draw the figure and its table from the part files in --out-dir (every part of one N).
     #[arg(long)]
     gather: bool,
+}
+
+/// `converge STUDY --part i/N` and `--gather` for the studies other than growth
+/// ([`cellsurf::engine::study`]).
+fn converge_parts(a: &ConvergeArgs) -> Result<()> {
+    use cellsurf::engine::study::{PartFile, PartRecord, gather, run_part};
+    let Some(study) = cellsurf::figures::study(&a.study) else {
+        bail!(
+            "--part and --gather: `converge {}` is not split into runs (it sweeps step sizes in seconds); run it whole",
+            a.study
+        );
+    };
+    std::fs::create_dir_all(&a.out_dir)
+        .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
+    let t = Instant::now();
+    if let Some(p) = &a.part {
+        let part: cellsurf::engine::part::Part = p.parse()?;
+        let records = run_part(study, part)
+            .map_err(|e| anyhow::anyhow!("{} study: {e}", a.study))?
+            .into_iter()
+            .map(|(run, record)| PartRecord { run, record })
+            .collect();
+        let file = PartFile {
+            study: study.name().into(),
+            cellsurf_version: VERSION.into(),
+            part,
+            records,
+        };
+        let path = a.out_dir.join(PartFile::file_name(study.name(), part));
+        write_atomic(&path, toml::to_string(&file)?.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+        conv::wrote(&path);
+        conv::note(format_args!(
+            "{} part {}/{} in {:.1} s",
+            a.study,
+            part.index,
+            part.count,
+            t.elapsed().as_secs_f64()
+        ));
+        return Ok(());
+    }
+    let prefix = format!("{}_error_vs_time.part-", study.name());
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&a.out_dir)
+        .with_context(|| format!("--gather: reading --out-dir {}", a.out_dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .is_some_and(|n| n.starts_with(&prefix) && n.ends_with(".toml"))
+        })
+        .collect();
+    names.sort();
+    if names.is_empty() {
+        bail!(
+            "--gather: no {prefix}i-of-N.toml in {}",
+            a.out_dir.display()
+        );
+    }
+    let mut files = Vec::new();
+    for f in &names {
+        let text =
+            std::fs::read_to_string(f).with_context(|| format!("reading {}", f.display()))?;
+        let p: PartFile =
+            toml::from_str(&text).with_context(|| format!("{}: not a part file", f.display()))?;
+        files.push((f.display().to_string(), p));
+    }
+    let records = gather(study, VERSION, &files).map_err(|e| anyhow::anyhow!("--gather: {e}"))?;
+    for p in cellsurf::figures::draw_study(study, &records, &a.out_dir)? {
+        conv::wrote(&p);
+    }
+    Ok(())
 }
 
 /// The records a part of the growth study writes.
@@ -547,8 +624,11 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
 pub fn converge(a: ConvergeArgs) -> Result<()> {
     conv::set_quiet(a.quiet);
     if a.study != "growth" {
-        if a.json || a.seeds != figures::CONVERGE_SEEDS || a.part.is_some() || a.gather {
-            bail!("--seeds, --json, --part and --gather are for `converge growth` only");
+        if a.json || a.seeds != figures::CONVERGE_SEEDS {
+            bail!("--seeds and --json are for `converge growth` only");
+        }
+        if a.part.is_some() || a.gather {
+            return converge_parts(&a);
         }
         let name = format!("{}_error_vs_time", a.study);
         let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;

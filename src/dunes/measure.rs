@@ -136,7 +136,7 @@ fn windings(labels: &[u32], count: usize, lattice: &Lattice) -> (Vec<bool>, Vec<
 }
 
 /// The observables of a dune field.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct DuneStats {
     /// Iterations done.
     pub iteration: u64,

@@ -687,23 +687,62 @@ pub const ERROR_SEEDS: usize = 12;
 /// Iterations between recorded observables in the error-against-time figure.
 const ERROR_EVERY: u64 = 25;
 
+/// The sand quantities of the error-against-time figure, and the first seed of each.
+const ERROR_CASES: [(f64, u64); 2] = [(1.0, 1000), (3.0, 3000)];
+
+fn error_config(q: f64) -> DuneConfig {
+    DuneConfig {
+        mode: Mode::Dune,
+        quantity: q,
+        ..DuneConfig::default()
+    }
+}
+
 /// The error-against-time study behind `dunes_error_vs_time.png`: dune mode at the
-/// defaults, `seeds` seeds for each of Q = 1 and Q = 3. Returns the runs per Q.
-pub fn error_study(seeds: usize) -> Result<Vec<(f64, Vec<SeedRun>)>, FigureError> {
-    [1.0, 3.0]
-        .into_iter()
-        .map(|q| {
-            let cfg = DuneConfig {
-                mode: Mode::Dune,
-                quantity: q,
-                ..DuneConfig::default()
-            };
-            let first = if q == 1.0 { 1000 } else { 3000 };
-            study::run_seeds(&cfg, first, seeds, ERROR_EVERY)
-                .map(|r| (q, r))
-                .map_err(|e| FigureError::Model(e.to_string()))
-        })
-        .collect()
+/// defaults, 12 seeds for each of Q = 1 and Q = 3, one run per seed, for
+/// `cellsurf converge dunes --part i/N` ([`crate::engine::study`]).
+pub struct ErrorStudy;
+
+impl crate::engine::study::Study for ErrorStudy {
+    fn name(&self) -> &'static str {
+        "dunes"
+    }
+    fn runs(&self) -> Vec<String> {
+        ERROR_CASES
+            .iter()
+            .flat_map(|&(q, first)| {
+                (0..ERROR_SEEDS as u64).map(move |k| format!("Q = {q} seed {}", first + k))
+            })
+            .collect()
+    }
+    fn run(&self, name: &str) -> Result<toml::Value, String> {
+        let parsed = name
+            .strip_prefix("Q = ")
+            .and_then(|r| r.split_once(" seed "))
+            .and_then(|(q, s)| Some((q.parse::<f64>().ok()?, s.parse::<u64>().ok()?)));
+        let Some((q, seed)) = parsed else {
+            return Err(format!("not a run of the study: {name}"));
+        };
+        let mut runs =
+            study::run_seeds(&error_config(q), seed, 1, ERROR_EVERY).map_err(|e| e.to_string())?;
+        crate::engine::study::record(&runs.pop())
+    }
+    fn draw(&self, records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, String> {
+        let mut runs = records
+            .iter()
+            .map(crate::engine::study::from_record::<SeedRun>);
+        let study = ERROR_CASES
+            .iter()
+            .map(|&(q, _)| {
+                let seeds = runs
+                    .by_ref()
+                    .take(ERROR_SEEDS)
+                    .collect::<Result<Vec<_>, _>>()?;
+                Ok((q, seeds))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        error_figure_of(&study, dir).map_err(|e| e.to_string())
+    }
 }
 
 fn curve_series(c: &ErrorCurve) -> Series {
@@ -743,6 +782,10 @@ fn evolution_series(
 }
 
 fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    crate::engine::study::run_whole(&ErrorStudy, dir).map_err(FigureError::Model)
+}
+
+fn error_figure_of(study: &[(f64, Vec<SeedRun>)], dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let base = DuneConfig {
         mode: Mode::Dune,
         ..DuneConfig::default()
@@ -753,12 +796,11 @@ fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             .unwrap_or_default()
             .replace("[werner]", "[run.werner]")
     )));
-    let study = error_study(ERROR_SEEDS)?;
     let mut se_bare = Vec::new();
     let mut se_bodies = Vec::new();
     let mut ev_bare = Vec::new();
     let mut ev_bodies = Vec::new();
-    for (q, runs) in &study {
+    for (q, runs) in study {
         let label = format!("Q = {q}");
         let cb = study::error_curve(&label, "bare_fraction", runs, |s| s.bare_fraction);
         let cn = study::error_curve(&label, "dune_bodies", runs, |s| s.dune_bodies as f64);

@@ -17,7 +17,7 @@ use super::{DuneConfig, DuneError, DuneModel, DuneStats};
 use crate::engine::stats::{self, ConvergePoint, mean_and_se};
 
 /// One seed's run.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct SeedRun {
     /// The seed.
     pub seed: u64,

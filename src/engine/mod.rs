@@ -11,6 +11,8 @@
 //! - [`sumtree`]: [`SumTree`](sumtree::SumTree), partial sums for weighted selection.
 //! - [`part`]: [`Part`](part::Part), one share of a job split over independent processes
 //!   (`--part i/N`).
+//! - [`study`]: [`Study`](study::Study), an error-against-time study as independent runs, run
+//!   whole or in parts and gathered.
 //! - [`rng`]: [`Stream`](rng::Stream), the Xoshiro256++ stream every model draws from.
 //! - [`stats`]: mean and standard error over seeds, error-against-run-time points, power-law
 //!   slopes.
@@ -44,6 +46,7 @@ pub mod lattice;
 pub mod part;
 pub mod rng;
 pub mod stats;
+pub mod study;
 pub mod sumtree;
 pub mod surface;
 pub mod wrap;

@@ -416,26 +416,14 @@ fn study_run(p: &RippleParams, at: &[u64]) -> Result<Vec<([f64; 3], f64)>, Strin
     Ok(out)
 }
 
-/// (mean CPU seconds, means, standard errors of the means) over [`STUDY_SEEDS`] seeds of `p`,
-/// at each of `at` steps. Seeds run in parallel; every run is deterministic, so the values do
-/// not depend on the thread count (the times do a little).
-fn study(p: &RippleParams, at: &[u64]) -> Result<Vec<StudyPoint>, FigureError> {
-    use rayon::prelude::*;
-    let runs: Vec<Vec<([f64; 3], f64)>> = (0..STUDY_SEEDS)
-        .into_par_iter()
-        .map(|s| {
-            study_run(
-                &RippleParams {
-                    seed: 1000 + s,
-                    ..p.clone()
-                },
-                at,
-            )
-        })
-        .collect::<Result<_, _>>()
-        .map_err(FigureError::Model)?;
-    let n = STUDY_SEEDS as f64;
-    Ok((0..at.len())
+/// (CPU seconds, means, standard errors of the means) of one study point.
+type StudyPoint = (f64, [f64; 3], [f64; 3]);
+
+/// (mean CPU seconds, means, standard errors of the means) over the seeds' `runs` (each
+/// [`study_run`]'s checkpoints), at each of `checkpoints` checkpoints.
+fn points(runs: &[Vec<([f64; 3], f64)>], checkpoints: usize) -> Vec<StudyPoint> {
+    let n = runs.len() as f64;
+    (0..checkpoints)
         .map(|j| {
             let secs = runs.iter().map(|r| r[j].1).sum::<f64>() / n;
             let mut mean = [0.0; 3];
@@ -451,61 +439,109 @@ fn study(p: &RippleParams, at: &[u64]) -> Result<Vec<StudyPoint>, FigureError> {
             }
             (secs, mean, se)
         })
-        .collect())
+        .collect()
 }
 
-/// (CPU seconds, means, standard errors of the means) of one study point.
-type StudyPoint = (f64, [f64; 3], [f64; 3]);
+/// One configuration of the error-against-time study: name, parameters, checkpoints (steps).
+type StudyConfig = (&'static str, RippleParams, Vec<u64>);
 
-/// Convergence of wavelength, height and ripple index with steps, grid size and bin size, and
-/// their spread over seeds, against CPU time (the defaults' sliced water and 10,000 steps on
-/// smaller grids of 20 automata per column).
-fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+/// The configurations of the error-against-time study (the defaults' sliced water and 10,000
+/// steps on smaller grids of 20 automata per column): name, parameters and checkpoints.
+fn study_configs() -> Result<Vec<StudyConfig>, String> {
     let base = RippleParams {
         nx: 64,
         ny: 32,
         layers: 20,
-        ..scene()?
+        ..scene().map_err(|e| e.to_string())?
     };
-    let steps = [1250u64, 2500, 5000, 10000];
-    let mut studies: Vec<(String, Vec<StudyPoint>)> = Vec::new();
-    let by_steps = study(&base, &steps)?;
-    let at_base = by_steps[steps.len() - 1];
-    studies.push(("steps 1250-10000 (64 x 32)".into(), by_steps));
-    let mut grid_pts = Vec::new();
-    for (nx, ny) in [(32usize, 16usize), (48, 24)] {
-        grid_pts.extend(study(
-            &RippleParams {
-                nx,
-                ny,
-                ..base.clone()
-            },
-            &[base.steps],
-        )?);
+    let grid = |nx, ny| RippleParams {
+        nx,
+        ny,
+        ..base.clone()
+    };
+    let bin = |bin_size, layer_thickness| RippleParams {
+        bin_size,
+        layer_thickness,
+        ..base.clone()
+    };
+    let end = vec![base.steps];
+    Ok(vec![
+        ("steps", base.clone(), vec![1250, 2500, 5000, 10000]),
+        ("grid 32x16", grid(32, 16), end.clone()),
+        ("grid 48x24", grid(48, 24), end.clone()),
+        ("grid 96x48", grid(96, 48), end.clone()),
+        ("bin 2.5 mm", bin(0.0025, 0.00025), end.clone()),
+        ("bin 10 mm", bin(0.01, 0.001), end),
+    ])
+}
+
+/// The study behind `ripple_error_vs_time.png` as independent runs (each configuration: the
+/// steps, three grid sizes and two bin sizes, for 6 seeds from 1000), for `cellsurf converge ripple
+/// --part i/N` ([`crate::engine::study`]).
+pub struct ErrorStudy;
+
+impl crate::engine::study::Study for ErrorStudy {
+    fn name(&self) -> &'static str {
+        "ripple"
     }
-    grid_pts.push(at_base);
-    grid_pts.extend(study(
-        &RippleParams {
-            nx: 96,
-            ny: 48,
-            ..base.clone()
-        },
-        &[base.steps],
-    )?);
-    studies.push(("grid 32 x 16, 64 x 32, 96 x 48".into(), grid_pts));
-    let mut bin_pts = Vec::new();
-    for (bin, gd) in [(0.0025, 0.00025), (0.01, 0.001)] {
-        let q = RippleParams {
-            bin_size: bin,
-            layer_thickness: gd,
-            ..base.clone()
-        };
-        bin_pts.extend(study(&q, &[base.steps])?);
-        if bin == 0.0025 {
-            bin_pts.push(at_base);
-        }
+    fn runs(&self) -> Vec<String> {
+        study_configs()
+            .unwrap_or_default()
+            .iter()
+            .flat_map(|(name, _, _)| {
+                (0..STUDY_SEEDS).map(move |s| format!("{name} seed {}", 1000 + s))
+            })
+            .collect()
     }
-    studies.push(("bin 2.5, 5, 10 mm (64 x 32, gd = bin / 10)".into(), bin_pts));
+    fn run(&self, name: &str) -> Result<toml::Value, String> {
+        let (config, seed) = name
+            .rsplit_once(" seed ")
+            .and_then(|(c, s)| Some((c, s.parse::<u64>().ok()?)))
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        let (_, p, at) = study_configs()?
+            .into_iter()
+            .find(|c| c.0 == config)
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        crate::engine::study::record(&study_run(&RippleParams { seed, ..p }, &at)?)
+    }
+    fn draw(&self, records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, String> {
+        draw_error(records, dir).map_err(|e| e.to_string())
+    }
+}
+
+/// Convergence of wavelength, height and ripple index with steps, grid size and bin size, and
+/// their spread over seeds, against CPU time ([`ErrorStudy`], run whole).
+fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    crate::engine::study::run_whole(&ErrorStudy, dir).map_err(FigureError::Model)
+}
+
+fn draw_error(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let configs = study_configs().map_err(FigureError::Model)?;
+    let base = configs[0].1.clone();
+    let mut recs = records.iter();
+    let mut pts = Vec::new();
+    for (_, _, at) in &configs {
+        let runs = recs
+            .by_ref()
+            .take(STUDY_SEEDS as usize)
+            .map(crate::engine::study::from_record::<Vec<([f64; 3], f64)>>)
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(FigureError::Model)?;
+        pts.push(points(&runs, at.len()));
+    }
+    let by_steps = pts[0].clone();
+    let at_base = by_steps[by_steps.len() - 1];
+    let studies: Vec<(String, Vec<StudyPoint>)> = vec![
+        ("steps 1250-10000 (64 x 32)".into(), by_steps),
+        (
+            "grid 32 x 16, 64 x 32, 96 x 48".into(),
+            vec![pts[1][0], pts[2][0], at_base, pts[3][0]],
+        ),
+        (
+            "bin 2.5, 5, 10 mm (64 x 32, gd = bin / 10)".into(),
+            vec![pts[4][0], at_base, pts[5][0]],
+        ),
+    ];
     let (sw_l, sw_h) = super::spectrum::soulsby_whitehouse(base.d50 * 1e-3);
     let reference = [Some(sw_l * 100.0), Some(sw_h * 100.0), Some(sw_l / sw_h)];
     let names = ["wavelength", "height", "ripple index"];

@@ -254,29 +254,79 @@ pub fn height_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 /// mean over the seeds so far of `height_std` and of both wavelengths, against the
 /// cumulative run time, with the `1/sqrt(time)` law through the sd of all the seeds.
 pub fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    crate::engine::study::run_whole(&ErrorStudy, dir).map_err(FigureError::Model)
+}
+
+/// The study behind `windripples_error_vs_time.png` as independent runs (one per seed), for
+/// `cellsurf converge windripples --part i/N` ([`crate::engine::study`]).
+pub struct ErrorStudy;
+
+/// One run's record: the statistics the figure uses (NaN: no wavelength found) and its wall
+/// time.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ErrorRecord {
+    height_std: f64,
+    wavelength_bins: f64,
+    mean_wavelength_bins: f64,
+    seconds: f64,
+}
+
+fn error_base() -> WindParams {
+    WindParams {
+        steps: ERROR_STEPS,
+        ..WindParams::default()
+    }
+}
+
+impl crate::engine::study::Study for ErrorStudy {
+    fn name(&self) -> &'static str {
+        "windripples"
+    }
+    fn parallel(&self) -> bool {
+        false // each run uses every core, and the figure plots wall time
+    }
+    fn runs(&self) -> Vec<String> {
+        (1..=ERROR_SEEDS).map(|s| format!("seed {s}")).collect()
+    }
+    fn run(&self, name: &str) -> Result<toml::Value, String> {
+        let seed: u64 = name
+            .strip_prefix("seed ")
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        let params = WindParams {
+            seed,
+            ..error_base()
+        };
+        let t = Instant::now();
+        let r = run(&params, |_| {}).map_err(|e| e.to_string())?;
+        let s = r.stats;
+        crate::engine::study::record(&ErrorRecord {
+            height_std: s.height_std,
+            wavelength_bins: s.wavelength_bins.unwrap_or(f64::NAN),
+            mean_wavelength_bins: s.mean_wavelength_bins.unwrap_or(f64::NAN),
+            seconds: t.elapsed().as_secs_f64(),
+        })
+    }
+    fn draw(&self, records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, String> {
+        draw_error(records, dir).map_err(|e| e.to_string())
+    }
+}
+
+fn draw_error(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let mut values: [Vec<f64>; 3] = Default::default();
     let mut time = 0.0;
     let mut xs = Vec::new();
     let mut se: [Vec<f64>; 3] = Default::default();
-    let base = WindParams {
-        steps: ERROR_STEPS,
-        ..WindParams::default()
-    };
-    for k in 0..ERROR_SEEDS {
-        let params = WindParams {
-            seed: 1 + k,
-            ..base.clone()
-        };
-        let t = Instant::now();
-        let r = run(&params, |_| {}).map_err(|e| FigureError::Model(e.to_string()))?;
-        time += t.elapsed().as_secs_f64();
-        let s = r.stats;
-        for (v, x) in values.iter_mut().zip([
-            Some(s.height_std),
-            s.wavelength_bins,
-            s.mean_wavelength_bins,
-        ]) {
-            v.push(x.unwrap_or(f64::NAN));
+    let base = error_base();
+    for (k, rec) in records.iter().enumerate() {
+        let r: ErrorRecord = crate::engine::study::from_record(rec).map_err(FigureError::Model)?;
+        time += r.seconds;
+        for (v, x) in
+            values
+                .iter_mut()
+                .zip([r.height_std, r.wavelength_bins, r.mean_wavelength_bins])
+        {
+            v.push(x);
         }
         if k >= 1 {
             xs.push(time);
