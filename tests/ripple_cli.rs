@@ -131,3 +131,52 @@ fn outputs_are_checked_before_the_run() {
     assert!(e.contains("--size = 128x5 is out of range"), "{e}");
     assert!(!e.contains("panicked"), "{e}");
 }
+
+/// Soulsby (1997), Sect. 7.2: below the threshold of motion nothing moves, above a Shields
+/// number of 0.8 ripples are washed out (sheet flow); the JSON always says which.
+#[test]
+fn regimes_no_motion_ripples_and_sheet_flow() {
+    let run = |speed: &str, out: Option<&PathBuf>| {
+        let mut args = SMALL.to_vec();
+        args.extend(["--json", "--current-speed", speed, "--snapshots", "0,40"]);
+        let o = out.map(|p| p.display().to_string());
+        if let Some(o) = &o {
+            args.extend(["--out", o.as_str()]);
+        }
+        cellsurf(&args)
+    };
+    // no motion: the bed is left as it is, and said so
+    let npy = tmp("still.npy");
+    let o = run("0.2", Some(&npy));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regime"], "no motion");
+    assert!(v["shields"].as_f64().unwrap() < v["shields_critical"].as_f64().unwrap());
+    assert_eq!(v["steps"], 0);
+    assert_eq!(v["activations"], 0);
+    let b = std::fs::read(&npy).unwrap();
+    let data = &b[b.len() - 2 * 24 * 12 * 4..];
+    assert_eq!(
+        data[..24 * 12 * 4],
+        data[24 * 12 * 4..],
+        "the bed did not change"
+    );
+    // ripples, with the Shields number of the law
+    let o = run("0.5", None);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regime"], "ripples");
+    let t = v["shields"].as_f64().unwrap();
+    assert!((t - 0.2016).abs() < 1e-3, "{t}");
+    assert!((v["shields_critical"].as_f64().unwrap() - 0.0553).abs() < 1e-3);
+    // sheet flow: refused, naming the flag, the value and the range
+    let o = run("1.5", None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--current-speed = 1.5")
+            && err.contains("sheet flow")
+            && err.contains("expected"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"));
+}

@@ -14,6 +14,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
 
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
+use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -267,10 +268,38 @@ pub fn run(a: Args) -> Result<()> {
         cellsurf::engine::io::check_output("--out", out)?;
     }
 
+    let reg = cellsurf::ripple::regime::regime(&p);
+    let (lo, hi) = reg.ripple_speeds;
+    match reg.regime {
+        Regime::SheetFlow => bail!(
+            "--current-speed = {} m/s (with --wave-amplitude {} m/s) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            p.current_speed,
+            p.wave_amplitude,
+            reg.shields,
+            p.d50,
+            cellsurf::ripple::regime::THETA_SHEET_FLOW
+        ),
+        Regime::NoMotion => conv::note(format_args!(
+            "no motion: {} m/s gives a Shields number of {:.3} on d50 = {} mm, below the threshold {:.3} (ripples from {lo:.3} m/s): the bed is left as it is",
+            reg.speed, reg.shields, p.d50, reg.shields_critical
+        )),
+        Regime::Ripples if reg.coarse => conv::note(format_args!(
+            "d50 = {} mm is above {} mm: coarse sand forms no current ripples in nature (Soulsby 1997, Sect. 7.2); the model still applies its rules",
+            p.d50,
+            cellsurf::ripple::regime::D50_RIPPLES_MAX_MM
+        )),
+        Regime::Ripples => {}
+    }
+    let steps = if reg.regime == Regime::NoMotion {
+        0
+    } else {
+        p.steps
+    };
+
     let start = Instant::now();
     let mut r = Ripple::new(&p)?;
     let setup_s = start.elapsed().as_secs_f64();
-    let bar = ProgressBar::with_draw_target(Some(p.steps.max(1)), ProgressDrawTarget::hidden());
+    let bar = ProgressBar::with_draw_target(Some(steps.max(1)), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar())
@@ -279,16 +308,21 @@ pub fn run(a: Args) -> Result<()> {
     bar.set_message(format!("ripple {}x{}x{}", p.nx, p.rows(), p.layers));
     let silent = a.quiet || a.json;
     let mut shown = false;
-    let snaps = run_recording(&mut r, p.steps, &times, |done| {
+    let mut snaps = run_recording(&mut r, steps, &times, |done| {
         if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
             bar.set_draw_target(ProgressDrawTarget::stderr());
             shown = true;
         }
-        if done % 16 == 0 || done == p.steps {
+        if done % 16 == 0 || done == steps {
             bar.set_position(done);
         }
     });
     bar.finish_and_clear();
+    if steps == 0 {
+        // no motion: the bed of step 0 at every snapshot asked for
+        let bed = run_recording(&mut r, 0, &[0], |_| {}).remove(0).1;
+        snaps = times.iter().map(|&t| (t, bed.clone())).collect();
+    }
     let elapsed = start.elapsed().as_secs_f64();
 
     let mut written = Vec::new();
@@ -319,6 +353,12 @@ pub fn run(a: Args) -> Result<()> {
             }
         };
         let own = serde_json::json!({
+            "regime": reg.regime.name(),
+            "shields": reg.shields,
+            "shields_critical": reg.shields_critical,
+            "bed_shear_stress_pa": reg.bed_shear_stress,
+            "ripple_regime_speeds_m_per_s": [lo, hi],
+            "coarse_sand": reg.coarse,
             "steps": s.steps,
             "automata": r.automata(),
             "activations": s.activations,

@@ -12,6 +12,8 @@
 //! - [`Analysis`] ([`spectrum`]): wavelength and crest orientation from the 2-D spectrum,
 //!   height, ripple index, slopes, crest/trough grain size.
 //! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
+//! - [`regime`]: the flow regime of a run (no motion, ripples, sheet flow) from the Shields
+//!   number of the median grain ([`regime::RegimeReport`]).
 //! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically;
 //!   `zarr` (feature `zarr`) the same variables as a chunked Zarr v3 store; [`input`] reads
 //!   the NetCDF files back ([`input::RippleFile`]).
@@ -47,6 +49,7 @@ pub mod model;
 pub mod morphometry;
 pub mod output;
 pub mod params;
+pub mod regime;
 pub mod rules;
 pub mod spectrum;
 pub mod volume;
