@@ -180,3 +180,55 @@ fn regimes_no_motion_ripples_and_sheet_flow() {
     );
     assert!(!err.contains("panicked"));
 }
+
+/// `--duration` sets the steps from the step duration of the transport law; `--until
+/// equilibrium` stops at a checkpoint or the cap and says which.
+#[test]
+fn duration_and_until_equilibrium() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "ripple", "--size", "24x12", "--layers", "10", "--seed", "3", "--json",
+        ];
+        args.extend_from_slice(extra);
+        cellsurf(&args)
+    };
+    let o = run(&["--duration", "30s"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let dt = v["step_duration_s"].as_f64().unwrap();
+    let steps = v["steps"].as_u64().unwrap();
+    assert!(dt > 0.0 && dt < 1.0, "{dt}");
+    assert_eq!(steps, (30.0 / dt).round() as u64);
+    let t = v["simulated_time_s"].as_f64().unwrap();
+    assert!((t - 30.0).abs() <= dt, "{t}");
+    assert!(v["bedload_m2_per_s"].as_f64().unwrap() > 0.0);
+    // the same run by --steps: the same bed
+    let by_steps = run(&["--steps", &steps.to_string()]);
+    let w: serde_json::Value = serde_json::from_slice(&by_steps.stdout).unwrap();
+    assert_eq!(v["height_m"], w["height_m"]);
+    // one or the other, and a duration it can read
+    let both = run(&["--steps", "10", "--duration", "1h"]);
+    assert_eq!(both.status.code(), Some(2));
+    let bad = run(&["--duration", "2 weeks"]);
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success() && err.contains("--duration"), "{err}");
+    // until equilibrium, capped at 3000 steps: checkpoints at 1000, 2000, 3000 or a stop at 2000
+    let o = run(&["--until", "equilibrium", "--steps", "3000"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let eq = v["equilibrium"].as_bool().unwrap();
+    let cps: Vec<u64> = v["checkpoints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["step"].as_u64().unwrap())
+        .collect();
+    if eq {
+        assert_eq!(v["equilibrium_step"], 2000);
+        assert_eq!(cps, [1000, 2000]);
+    } else {
+        assert!(v["equilibrium_time_s"].is_null());
+        assert_eq!(cps, [1000, 2000, 3000]);
+    }
+    assert_eq!(v["steps"].as_u64().unwrap(), *cps.last().unwrap());
+}

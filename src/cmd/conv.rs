@@ -172,6 +172,27 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
+/// A duration in seconds: a number with an optional unit, `s`, `min`, `h` or `d` (`90s`,
+/// `30min`, `2h`, `1.5e4`); finite and above 0.
+pub fn parse_duration(s: &str) -> Result<f64, String> {
+    let t = s.trim();
+    let bad = || {
+        format!(
+            "'{s}' is not a duration: expected a number of seconds above 0, or one with a unit s, min, h or d (e.g. 90s, 30min, 2h)"
+        )
+    };
+    let (num, scale) = [("min", 60.0), ("s", 1.0), ("h", 3600.0), ("d", 86400.0)]
+        .iter()
+        .find_map(|&(u, k)| t.strip_suffix(u).map(|n| (n.trim(), k)))
+        .unwrap_or((t, 1.0));
+    let v: f64 = num.parse().map_err(|_| bad())?;
+    let secs = v * scale;
+    if !(secs.is_finite() && secs > 0.0) {
+        return Err(bad());
+    }
+    Ok(secs)
+}
+
 /// A grid size `WxH`, or `N` for `N x N`, in cells (whole numbers of at least 1).
 pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let bad = || format!("'{s}' is not a size: expected N or WxH in cells, e.g. 128 or 200x230");
@@ -565,5 +586,17 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("one .png output"), "{e}");
+    }
+
+    #[test]
+    fn durations_with_units() {
+        assert_eq!(parse_duration("90s"), Ok(90.0));
+        assert_eq!(parse_duration("30min"), Ok(1800.0));
+        assert_eq!(parse_duration("2h"), Ok(7200.0));
+        assert_eq!(parse_duration("1.5e4"), Ok(15000.0));
+        assert_eq!(parse_duration("1d"), Ok(86400.0));
+        for bad in ["0", "-5s", "nan", "1e400", "2 weeks", "", "h"] {
+            assert!(parse_duration(bad).is_err(), "{bad}");
+        }
     }
 }

@@ -14,6 +14,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
 
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
+use cellsurf::ripple::clock::StepClock;
+use cellsurf::ripple::equilibrium::run_until_mature;
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
@@ -62,6 +64,16 @@ pub struct Args {
     /// Steps (`1e4` accepted) [default: 10000].
     #[arg(long, value_name = "N", value_parser = conv::parse_count)]
     steps: Option<u64>,
+    /// Simulated duration instead of --steps: seconds, or with a unit (`90s`, `30min`, `2h`,
+    /// `1d`). The steps follow from the duration of a step, set by the Meyer-Peter & Mueller
+    /// bedload (--json reports `step_duration_s`).
+    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, conflicts_with = "steps")]
+    duration: Option<f64>,
+    /// Stop early once the field is mature: `equilibrium` (wavelength and height change by
+    /// less than 10 % between t and 2t, checked at 1000 steps and its doublings); --steps or
+    /// --duration is the cap.
+    #[arg(long, value_name = "WHEN", value_parser = ["equilibrium"])]
+    until: Option<String>,
     /// Fraction of automata triggered per step [default: 0.001].
     #[arg(long)]
     activity: Option<f64>,
@@ -253,16 +265,6 @@ pub fn run(a: Args) -> Result<()> {
     });
     let spec = OutputSpec { fields, format };
     spec.validate(p.acoustics)?;
-    let times: Vec<u64> = match &a.snapshots {
-        Some(t) => t.clone(),
-        None => vec![0, p.steps],
-    };
-    if let Some(&t) = times.iter().find(|&&t| t > p.steps) {
-        bail!(
-            "snapshots = {t} is out of range: expected steps in [0, steps = {}]",
-            p.steps
-        );
-    }
 
     if let Some(out) = out.as_ref().filter(|_| format != Format::Zarr) {
         cellsurf::engine::io::check_output("--out", out)?;
@@ -290,11 +292,32 @@ pub fn run(a: Args) -> Result<()> {
         )),
         Regime::Ripples => {}
     }
+    let clock = if reg.regime == Regime::NoMotion {
+        None
+    } else {
+        Some(StepClock::of(&p)?)
+    };
+    let mut p = p;
+    if let (Some(d), Some(c)) = (a.duration, &clock) {
+        p.steps = c.steps_for(d)?;
+        p.validate()?;
+    }
     let steps = if reg.regime == Regime::NoMotion {
         0
     } else {
         p.steps
     };
+
+    let times: Vec<u64> = match &a.snapshots {
+        Some(t) => t.clone(),
+        None => vec![0, p.steps],
+    };
+    if let Some(&t) = times.iter().find(|&&t| t > p.steps) {
+        bail!(
+            "snapshots = {t} is out of range: expected steps in [0, steps = {}]",
+            p.steps
+        );
+    }
 
     let start = Instant::now();
     let mut r = Ripple::new(&p)?;
@@ -308,15 +331,23 @@ pub fn run(a: Args) -> Result<()> {
     bar.set_message(format!("ripple {}x{}x{}", p.nx, p.rows(), p.layers));
     let silent = a.quiet || a.json;
     let mut shown = false;
-    let mut snaps = run_recording(&mut r, steps, &times, |done| {
+    let progress = |done: u64| {
         if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
             bar.set_draw_target(ProgressDrawTarget::stderr());
             shown = true;
         }
-        if done % 16 == 0 || done == steps {
+        if done.is_multiple_of(16) || done == steps {
             bar.set_position(done);
         }
-    });
+    };
+    let mut mature = None;
+    let mut snaps = if a.until.is_some() {
+        let m = run_until_mature(&mut r, steps, &times, progress);
+        mature = Some((m.mature_at, m.checkpoints));
+        m.snapshots
+    } else {
+        run_recording(&mut r, steps, &times, progress)
+    };
     bar.finish_and_clear();
     if steps == 0 {
         // no motion: the bed of step 0 at every snapshot asked for
@@ -359,6 +390,14 @@ pub fn run(a: Args) -> Result<()> {
             "bed_shear_stress_pa": reg.bed_shear_stress,
             "ripple_regime_speeds_m_per_s": [lo, hi],
             "coarse_sand": reg.coarse,
+            "step_duration_s": clock.map(|c| num(c.step_s)),
+            "simulated_time_s": clock.map(|c| num(c.step_s * s.steps as f64)),
+            "bedload_m2_per_s": clock.map(|c| c.bedload),
+            "flat_bed_travel_m": clock.map(|c| c.travel),
+            "equilibrium": mature.as_ref().map(|m| m.0.is_some()),
+            "equilibrium_step": mature.as_ref().and_then(|m| m.0),
+            "equilibrium_time_s": mature.as_ref().and_then(|m| m.0).zip(clock).map(|(t, c)| num(c.step_s * t as f64)),
+            "checkpoints": mature.as_ref().map(|m| m.1.iter().map(|&(t, l, h)| serde_json::json!({"step": t, "wavelength_m": num(l), "height_m": num(h)})).collect::<Vec<_>>()),
             "steps": s.steps,
             "automata": r.automata(),
             "activations": s.activations,
@@ -385,8 +424,12 @@ pub fn run(a: Args) -> Result<()> {
         println!("{}", serde_json::to_string(&v)?);
     } else {
         println!(
-            "ripple: {} steps, {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
+            "ripple: {} steps ({}), {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
             s.steps,
+            match clock {
+                Some(c) => format!("{:.0} s simulated", c.step_s * s.steps as f64),
+                None => reg.regime.name().to_string(),
+            },
             r.automata(),
             s.activations,
             an.wavelength_m,

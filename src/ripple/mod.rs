@@ -12,6 +12,9 @@
 //! - [`Analysis`] ([`spectrum`]): wavelength and crest orientation from the 2-D spectrum,
 //!   height, ripple index, slopes, crest/trough grain size.
 //! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
+//! - [`clock`]: the physical duration of a step from the Meyer-Peter & Mueller bedload
+//!   ([`clock::StepClock`]).
+//! - [`equilibrium`]: running until the field is mature ([`equilibrium::run_until_mature`]).
 //! - [`regime`]: the flow regime of a run (no motion, ripples, sheet flow) from the Shields
 //!   number of the median grain ([`regime::RegimeReport`]).
 //! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically;
@@ -40,7 +43,9 @@
 //! ```
 
 pub mod acoustics;
+pub mod clock;
 pub mod compaction;
+pub mod equilibrium;
 #[cfg(feature = "plot")]
 pub mod figures;
 pub mod grain;

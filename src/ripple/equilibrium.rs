@@ -1,0 +1,155 @@
+//! Running a ripple field until it is mature: [`run_until_mature`] measures the field
+//! ([`Analysis`]) at doubling checkpoints and stops when both its wavelength and its height
+//! changed by less than [`TOLERANCE`] between the previous checkpoint `t` and this one `2 t`
+//! ([`mature`]), or at a cap.
+//!
+//! The checkpoints are [`FIRST_CHECK`] steps and its doublings: a field is judged between `t`
+//! and `2 t` for `t >= FIRST_CHECK`.
+
+use super::model::Ripple;
+use super::output::run_recording;
+use super::spectrum::Analysis;
+
+/// Relative change of wavelength and height below which a field counts as mature.
+pub const TOLERANCE: f64 = 0.10;
+
+/// The first checkpoint, steps.
+pub const FIRST_CHECK: u64 = 1000;
+
+/// Whether the field went from `before` (at `t`) to `after` (at `2 t`) changing its wavelength
+/// and its height by less than [`TOLERANCE`] of their values at `t` (false when either is not
+/// finite or not positive: no ripples measured).
+pub fn mature(before: &Analysis, after: &Analysis) -> bool {
+    let close =
+        |a: f64, b: f64| a.is_finite() && b.is_finite() && a > 0.0 && (b - a).abs() < TOLERANCE * a;
+    close(before.wavelength_m, after.wavelength_m) && close(before.height_m, after.height_m)
+}
+
+/// What [`run_until_mature`] did.
+#[derive(Clone, Debug)]
+pub struct MatureRun {
+    /// The elevation at each snapshot reached (steps since the start, elevation), and at the
+    /// last step.
+    pub snapshots: Vec<(u64, Vec<f32>)>,
+    /// The step at which the field was found mature (`None`: the cap came first).
+    pub mature_at: Option<u64>,
+    /// (step, wavelength m, height m) at every checkpoint.
+    pub checkpoints: Vec<(u64, f64, f64)>,
+}
+
+/// Runs `r` until it is mature ([`mature`] between checkpoints `t` and `2 t`) or `cap` steps,
+/// keeping the elevation at each of `times` reached; `progress(done)` after each step.
+pub fn run_until_mature(
+    r: &mut Ripple,
+    cap: u64,
+    times: &[u64],
+    mut progress: impl FnMut(u64),
+) -> MatureRun {
+    let mut snapshots = Vec::new();
+    let mut checkpoints = Vec::new();
+    let mut done = 0u64;
+    let mut next = FIRST_CHECK.min(cap);
+    let mut last: Option<Analysis> = None;
+    let mut mature_at = None;
+    while done < cap {
+        let n = next - done;
+        let rel: Vec<u64> = times
+            .iter()
+            .filter(|&&t| t > done && t <= next || (t == 0 && done == 0))
+            .map(|&t| t - done)
+            .collect();
+        let base = done;
+        for (t, e) in run_recording(r, n, &rel, |k| progress(base + k)) {
+            snapshots.push((t, e));
+        }
+        done = next;
+        let a = Analysis::of(r);
+        checkpoints.push((done, a.wavelength_m, a.height_m));
+        if let Some(b) = &last
+            && done >= 2 * FIRST_CHECK
+            && mature(b, &a)
+        {
+            mature_at = Some(done);
+            break;
+        }
+        last = Some(a);
+        next = (2 * done).min(cap);
+    }
+    if snapshots.last().is_none_or(|s| s.0 != r.time()) {
+        let e = r.elevation().iter().map(|&v| v as f32).collect();
+        snapshots.push((r.time(), e));
+    }
+    MatureRun {
+        snapshots,
+        mature_at,
+        checkpoints,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn field(wavelength_m: f64, height_m: f64) -> Analysis {
+        Analysis {
+            wavelength_m,
+            height_m,
+            crest_normal_deg: 0.0,
+            ripple_index: wavelength_m / height_m,
+            lee_slope_deg: 0.0,
+            stoss_slope_deg: 0.0,
+            symmetry_index: 1.0,
+            faces: 0,
+            d50_crest_mm: 0.2,
+            d50_trough_mm: 0.2,
+        }
+    }
+
+    #[test]
+    fn mature_when_both_change_by_under_ten_percent() {
+        assert!(mature(&field(0.10, 0.010), &field(0.109, 0.0091)));
+        assert!(
+            !mature(&field(0.10, 0.010), &field(0.111, 0.010)),
+            "wavelength grew 11 %"
+        );
+        assert!(
+            !mature(&field(0.10, 0.010), &field(0.10, 0.0115)),
+            "height grew 15 %"
+        );
+        assert!(
+            !mature(&field(0.10, 0.010), &field(0.10, 0.0085)),
+            "height fell 15 %"
+        );
+        assert!(
+            !mature(&field(f64::NAN, 0.010), &field(0.10, 0.010)),
+            "no ripples measured"
+        );
+        assert!(
+            !mature(&field(0.0, 0.0), &field(0.0, 0.0)),
+            "a flat bed is not mature"
+        );
+    }
+
+    #[test]
+    fn a_field_that_keeps_coarsening_runs_to_the_cap() {
+        use crate::ripple::RippleParams;
+        let p = RippleParams {
+            nx: 24,
+            ny: 12,
+            layers: 8,
+            ..RippleParams::default()
+        };
+        let mut r = Ripple::new(&p).unwrap();
+        let m = run_until_mature(&mut r, 2500, &[0, 2500], |_| {});
+        // checkpoints 1000, 2000 and the cap
+        let steps: Vec<u64> = m.checkpoints.iter().map(|c| c.0).collect();
+        assert_eq!(steps[..2], [1000, 2000]);
+        match m.mature_at {
+            Some(t) => assert!(t >= 2000 && steps.contains(&t)),
+            None => assert_eq!(*steps.last().unwrap(), 2500),
+        }
+        assert_eq!(m.snapshots.first().unwrap().0, 0);
+        assert_eq!(m.snapshots.last().unwrap().0, r.time());
+        assert_eq!(r.mass_change(), 0);
+    }
+}
