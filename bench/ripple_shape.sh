@@ -23,7 +23,7 @@ for seed in 1 2 3; do
 done
 run "slices current 45 deg" --current-angle 45 --nx 96 --ny 96 "$@"
 run "slices current 90 deg" --current-angle 90 --nx 64 --ny 128 "$@"
-run "pure wave (0.5 m/s, 20 steps)" --current-speed 0 --wave-amplitude 0.5 --wave-period 20 "$@"
+run "pure wave (0.5 m/s, 8 s)" --current-speed 0 --wave-velocity 0.5 --wave-period 8s "$@"
 run "bin 2.5 mm (256 x 128)" --bin-size 0.0025 --nx 256 --ny 128 "$@"
 run "bin 10 mm (64 x 32)" --bin-size 0.01 --nx 64 --ny 32 --layer-thickness 0.001 --layers 30 "$@"
 run "d50 0.4 mm" --d50 0.4 "$@"

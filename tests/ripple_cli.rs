@@ -232,3 +232,84 @@ fn duration_and_until_equilibrium() {
     }
     assert_eq!(v["steps"].as_u64().unwrap(), *cps.last().unwrap());
 }
+
+/// Waves in physical units: near-bed orbital velocity, period in seconds (converted with the
+/// step duration), their own direction; the orbital diameter U_w T / pi is reported.
+#[test]
+fn waves_by_orbital_velocity_period_and_angle() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "ripple", "--layers", "10", "--seed", "3", "--json", "--d50", "0.3",
+        ];
+        if !extra.contains(&"--size") {
+            args.extend(["--size", "24x12"]);
+        }
+        args.extend_from_slice(extra);
+        cellsurf(&args)
+    };
+    let o = run(&[
+        "--current-speed",
+        "0",
+        "--wave-velocity",
+        "0.4",
+        "--wave-period",
+        "2.5s",
+        "--steps",
+        "200",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let d0 = v["orbital_diameter_m"].as_f64().unwrap();
+    assert!(
+        (d0 - 0.4 * 2.5 / std::f64::consts::PI).abs() < 1e-12,
+        "{d0}"
+    );
+    let dt = v["step_duration_s"].as_f64().unwrap();
+    let steps = v["wave_period_steps"].as_f64().unwrap();
+    assert!((steps * dt - 2.5).abs() < 1e-9);
+    assert_eq!(v["parameters"]["wave_amplitude"], 0.4);
+    // at an angle to a current
+    let o = run(&[
+        "--current-speed",
+        "0.3",
+        "--wave-velocity",
+        "0.4",
+        "--wave-period",
+        "3s",
+        "--wave-angle",
+        "60",
+        "--steps",
+        "200",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["parameters"]["wave_angle"], 60.0);
+    // refused by name: a velocity without a period, a period shorter than two steps, an angle in 2-D
+    for (extra, flag) in [
+        (&["--wave-velocity", "0.4"][..], "--wave-velocity"),
+        (
+            &["--wave-velocity", "0.4", "--wave-period", "0.01s"][..],
+            "--wave-period",
+        ),
+        (
+            &[
+                "--mode",
+                "2d",
+                "--size",
+                "40x1",
+                "--wave-velocity",
+                "0.4",
+                "--wave-period",
+                "3s",
+                "--wave-angle",
+                "30",
+            ][..],
+            "--wave-angle",
+        ),
+    ] {
+        let o = run(extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{extra:?}: {err}");
+        assert!(err.contains(flag), "{extra:?}: {err}");
+    }
+}

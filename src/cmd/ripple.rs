@@ -29,6 +29,7 @@ use cellsurf::ripple::{
     after_help = "Examples:\n  \
         cellsurf ripple --out bed.nc                      # the paper's Fig. 3 situation\n  \
         cellsurf ripple --size 64x32 --steps 2000 --out bed.npy --json\n  \
+        cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
         cellsurf ripple --mode 2d --size 400x1 --abstraction shadow --out section.npy\n  \
         cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3"
 )]
@@ -89,12 +90,18 @@ pub struct Args {
     /// Current speed, m/s [default: 0.5].
     #[arg(long)]
     current_speed: Option<f64>,
-    /// Wave period, steps (0 = no wave) [default: 0].
-    #[arg(long)]
+    /// Wave period, seconds or with a unit (`8s`); converted to steps with the step duration
+    /// (--json reports `wave_period_steps`) [default: no wave].
+    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration)]
     wave_period: Option<f64>,
-    /// Wave orbital speed amplitude, m/s [default: 0].
-    #[arg(long)]
+    /// Near-bed orbital velocity amplitude of the waves, m/s (needs --wave-period)
+    /// [default: 0].
+    #[arg(long = "wave-velocity", alias = "wave-amplitude")]
     wave_amplitude: Option<f64>,
+    /// Direction the waves propagate towards, degrees counter-clockwise from +x; 3-D only
+    /// [default: the current's direction].
+    #[arg(long, allow_hyphen_values = true)]
+    wave_angle: Option<f64>,
     /// Avalanche angle alpha, degrees [default: 32].
     #[arg(long)]
     avalanche_angle: Option<f64>,
@@ -180,7 +187,6 @@ fn params(a: &Args) -> Result<RippleParams> {
         sorting,
         current_angle,
         current_speed,
-        wave_period,
         wave_amplitude,
         avalanche_angle,
         stoss_angle,
@@ -188,6 +194,13 @@ fn params(a: &Args) -> Result<RippleParams> {
         acoustics,
         seed
     );
+    if a.wave_angle.is_some() {
+        p.wave_angle = a.wave_angle;
+    }
+    if a.wave_period.is_some() {
+        // seconds; a provisional period in steps until the step duration is known
+        p.wave_period = 64.0;
+    }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
             let flag = conv::typed_flag("size").unwrap_or_else(|| "--size".into());
@@ -202,12 +215,43 @@ fn params(a: &Args) -> Result<RippleParams> {
     Ok(p)
 }
 
+/// Converts the options given in seconds (`--duration`, `--wave-period`) to steps of the
+/// step duration of `clock` (none: no motion, nothing runs).
+fn to_steps(a: &Args, p: &mut RippleParams, clock: Option<&StepClock>) -> Result<()> {
+    if let (Some(d), Some(c)) = (a.duration, clock) {
+        p.steps = c.steps_for(d)?;
+    }
+    if let Some(t) = a.wave_period {
+        p.wave_period = match clock {
+            Some(c) if t / c.step_s >= 2.0 => t / c.step_s,
+            Some(c) => bail!(
+                "--wave-period = {t} s is out of range: expected at least two steps of {:.4} s ({:.4} s)",
+                c.step_s,
+                2.0 * c.step_s
+            ),
+            None => 64.0,
+        };
+    }
+    p.validate()?;
+    Ok(())
+}
+
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
     let p = params(&a)?;
     if a.print_scenario {
+        let mut p = p;
+        if a.duration.is_some() || a.wave_period.is_some() {
+            let moving = cellsurf::ripple::regime::regime(&p).regime != Regime::NoMotion;
+            let clock = if moving {
+                Some(StepClock::of(&p)?)
+            } else {
+                None
+            };
+            to_steps(&a, &mut p, clock.as_ref())?;
+        }
         print!(
             "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\nmodel = \"ripple\"\n{}",
             cellsurf::ripple::VERSION,
@@ -298,9 +342,13 @@ pub fn run(a: Args) -> Result<()> {
         Some(StepClock::of(&p)?)
     };
     let mut p = p;
-    if let (Some(d), Some(c)) = (a.duration, &clock) {
-        p.steps = c.steps_for(d)?;
-        p.validate()?;
+    to_steps(&a, &mut p, clock.as_ref())?;
+    if p.wave_amplitude > 0.0 && p.wave_period == 0.0 {
+        bail!(
+            "{} = {} m/s needs a wave period: give --wave-period (seconds)",
+            conv::typed_flag("wave_amplitude").unwrap_or_else(|| "--wave-velocity".into()),
+            p.wave_amplitude
+        );
     }
     let steps = if reg.regime == Regime::NoMotion {
         0
@@ -390,6 +438,9 @@ pub fn run(a: Args) -> Result<()> {
             "bed_shear_stress_pa": reg.bed_shear_stress,
             "ripple_regime_speeds_m_per_s": [lo, hi],
             "coarse_sand": reg.coarse,
+            "wave_period_s": clock.filter(|_| p.wave_period > 0.0).map(|c| num(c.step_s * p.wave_period)),
+            "wave_period_steps": (p.wave_period > 0.0).then_some(p.wave_period),
+            "orbital_diameter_m": clock.filter(|_| p.wave_period > 0.0).map(|c| num(p.wave_amplitude * c.step_s * p.wave_period / std::f64::consts::PI)),
             "step_duration_s": clock.map(|c| num(c.step_s)),
             "simulated_time_s": clock.map(|c| num(c.step_s * s.steps as f64)),
             "bedload_m2_per_s": clock.map(|c| c.bedload),

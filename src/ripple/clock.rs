@@ -6,7 +6,8 @@
 //! *Proc. 2nd Meeting IAHR*, Stockholm, 39-64: `q_b = 8 (theta - theta_cr)^1.5
 //! sqrt(g (s - 1) d^3)` (m^2/s of grain volume per metre of width), with the Shields number
 //! of the median grain and its threshold as in [`super::regime`]. With a wave, the law is
-//! averaged over the cycle (64 phases of `U_c + U_w sin phi`).
+//! averaged over the cycle (64 phases of `|U_c e_c + U_w sin(phi) e_w|`), and so is the model's
+//! flux, so that the step duration does not depend on the wave period.
 //!
 //! **The model's flux.** A step activates `activity x automata` automata; on a flat bed each
 //! travels a mean distance `l` (m), measured once per run by setting grains off one at a time
@@ -45,19 +46,27 @@ pub fn meyer_peter_mueller(theta: f64, d: f64) -> f64 {
     8.0 * excess.powf(1.5) * (G * (s - 1.0) * d * d * d).sqrt()
 }
 
+/// Whether the run has a wave.
+fn has_wave(p: &RippleParams) -> bool {
+    p.wave_period > 0.0 && p.wave_amplitude > 0.0
+}
+
 /// The free-stream speeds of the phases a run's flux is averaged over: the current alone, or
-/// 64 phases of the wave cycle.
-fn phase_speeds(p: &RippleParams) -> Vec<f64> {
-    if p.wave_period > 0.0 && p.wave_amplitude > 0.0 {
-        (0..64)
-            .map(|k| {
-                let phi = 2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0;
-                (p.current_speed + p.wave_amplitude * phi.sin()).abs()
-            })
-            .collect()
-    } else {
-        vec![p.current_speed.abs()]
+/// 64 phases of the wave cycle (the magnitude of `U_c e_c + U_w sin(phi) e_w`).
+pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
+    if !has_wave(p) {
+        return vec![p.current_speed.abs()];
     }
+    let c = p.current_angle.to_radians();
+    let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
+    (0..64)
+        .map(|k| {
+            let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0).sin();
+            let ux = p.current_speed * c.cos() + p.wave_amplitude * s * w.cos();
+            let uy = p.current_speed * c.sin() + p.wave_amplitude * s * w.sin();
+            ux.hypot(uy)
+        })
+        .collect()
 }
 
 /// The bedload of the transport law for the run `p`, averaged over its phases, m^2/s.
@@ -160,10 +169,10 @@ pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
     let h0 = q.layers.max(1);
     let mut r = Ripple::from_heights(&q, &vec![h0; nx * ny])?;
     let eps = porosity(r.compaction().initial_code());
-    let phases: Vec<u64> = if p.wave_period > 0.0 && p.wave_amplitude > 0.0 {
-        (0..64)
-            .map(|k| (k as f64 * p.wave_period / 64.0).floor() as u64)
-            .collect()
+    // the wave's phases: step k of a 64-step period is phase (k + 1/2) / 64, whatever the
+    // run's period (so the step duration does not depend on it)
+    let phases: Vec<u64> = if has_wave(p) {
+        (0..64).collect()
     } else {
         vec![0]
     };

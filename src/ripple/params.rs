@@ -120,11 +120,16 @@ pub struct RippleParams {
     pub current_angle: f64,
     /// Steady current speed in the free stream, m/s, 0..=10. Default 0.5.
     pub current_speed: f64,
-    /// Period of the oscillating (wave) flow component along `current_angle`, steps;
-    /// 0 = no wave. Default 0.
+    /// Period of the oscillating (wave) flow component, steps (the command line takes it in
+    /// seconds and converts it with the step duration); 0 = no wave. Default 0.
     pub wave_period: f64,
-    /// Amplitude of the oscillating flow component, m/s, 0..=10. Default 0.
+    /// Amplitude of the oscillating flow component (the near-bed orbital velocity), m/s,
+    /// 0..=10. Default 0.
     pub wave_amplitude: f64,
+    /// Direction the waves propagate towards, degrees counter-clockwise from +x; absent: along
+    /// `current_angle`. 3-D only. Default absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wave_angle: Option<f64>,
     /// Avalanche angle alpha (Eq. 6), degrees, in (0, 90). Default 32.
     pub avalanche_angle: f64,
     /// Stoss stability angle beta (Eq. 3), degrees, in [0, avalanche_angle]. Default 7.
@@ -182,6 +187,7 @@ impl Default for RippleParams {
             current_speed: 0.5,
             wave_period: 0.0,
             wave_amplitude: 0.0,
+            wave_angle: None,
             avalanche_angle: 32.0,
             stoss_angle: 7.0,
             creep_angle: 5.0,
@@ -357,6 +363,16 @@ impl RippleParams {
             false,
             false,
         )?;
+        if let Some(a) = self.wave_angle {
+            check_f("wave_angle", a, -3600.0, 3600.0, false, false)?;
+            if self.mode == Mode::TwoD {
+                return Err(range(
+                    "wave_angle",
+                    a,
+                    "no wave angle in 2-D mode (the section runs along the current, and so do its waves)",
+                ));
+            }
+        }
         check_f(
             "avalanche_angle",
             self.avalanche_angle,

@@ -5,7 +5,7 @@
 //! friction law of R. L. Soulsby (1997), *Dynamics of Marine Sands*, Thomas Telford, Eq. 30;
 //! `C_D` is the run's `drag_coefficient`, the same law the rules use for each grain class,
 //! [`super::grain`]). With a wave the stress is judged at the largest speed of the cycle,
-//! `|U_c| + U_w`.
+//! the larger of `|U_c e_c +- U_w e_w|` (`|U_c| + U_w` when they are aligned).
 //!
 //! **Shields number and threshold.** `theta = tau / ((rho_s - rho_w) g d50)` (Soulsby 1997,
 //! Eq. 74) against the threshold `theta_cr(D*)` of Soulsby's Eq. 77 ([`super::grain::theta_cr`]).
@@ -68,7 +68,7 @@ impl Regime {
 pub struct RegimeReport {
     /// The regime.
     pub regime: Regime,
-    /// The largest free-stream speed of the run, m/s (`|U_c| + U_w`).
+    /// The largest free-stream speed of the run, m/s (`|U_c| + U_w` when aligned).
     pub speed: f64,
     /// Bed shear stress at that speed, Pa.
     pub bed_shear_stress: f64,
@@ -104,7 +104,21 @@ pub fn speed_for_shields(theta: f64, d: f64, cd: f64) -> f64 {
 pub fn regime(p: &RippleParams) -> RegimeReport {
     let d = p.d50 * 1e-3;
     let cd = p.drag_coefficient;
-    let speed = p.current_speed.abs() + p.wave_amplitude.abs();
+    // the largest speed of the cycle: at the wave's crest or trough
+    let speed = if p.wave_amplitude > 0.0 {
+        let c = p.current_angle.to_radians();
+        let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
+        [1.0, -1.0]
+            .iter()
+            .map(|s| {
+                let ux = p.current_speed * c.cos() + s * p.wave_amplitude * w.cos();
+                let uy = p.current_speed * c.sin() + s * p.wave_amplitude * w.sin();
+                ux.hypot(uy)
+            })
+            .fold(0.0, f64::max)
+    } else {
+        p.current_speed.abs()
+    };
     let tau = bed_shear_stress(speed, cd);
     let theta = shields(tau, d);
     let cr = theta_cr(d);

@@ -4,7 +4,8 @@
 //!
 //! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
 //! `current_angle`: a steady current `U_c` plus an oscillating (wave) component of amplitude
-//! `U_w` and period `T` steps. When it is negative the flow runs the other way (angle + 180 deg),
+//! `U_w` and period `T` steps; with a `wave_angle` of their own, the vector sum
+//! `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs the other way (angle + 180 deg),
 //! so a pure wave (`U_c = 0`) pushes equally both ways and gives symmetric ripples.
 //!
 //! **Slices** ([`crate::ripple::Abstraction::Slices`]). The water above the bed is cut into
@@ -66,7 +67,16 @@ impl Flow {
         } else {
             p.current_angle.to_radians()
         };
-        let angle = if v < 0.0 { base + PI } else { base };
+        let (v, angle) = match p.wave_angle.filter(|_| !two_d) {
+            // waves at their own angle: the vector sum of current and wave
+            Some(wa) => {
+                let wa = wa.to_radians();
+                let ux = p.current_speed * base.cos() + wave * wa.cos();
+                let uy = p.current_speed * base.sin() + wave * wa.sin();
+                (ux.hypot(uy), uy.atan2(ux))
+            }
+            None => (v, if v < 0.0 { base + PI } else { base }),
+        };
         let angle = angle.rem_euclid(2.0 * PI);
         let octant = (angle / (PI / 4.0)).rem_euclid(8.0);
         let (c, s) = (angle.cos(), angle.sin());
@@ -388,6 +398,40 @@ mod tests {
             }
         }
         assert!(partial > 1000, "few recovering slices: {partial}");
+    }
+
+    #[test]
+    fn waves_at_their_own_angle_add_to_the_current_as_vectors() {
+        let p = RippleParams {
+            current_speed: 0.3,
+            current_angle: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 8.0,
+            wave_angle: Some(90.0),
+            ..RippleParams::default()
+        };
+        for t in 0..8u64 {
+            let f = Flow::at(&p, t, false);
+            let w = 0.4 * (2.0 * PI * (t as f64 + 0.5) / 8.0).sin();
+            assert!((f.speed - 0.3f64.hypot(w)).abs() < 1e-12, "{t}");
+            assert!(
+                (f.angle - w.atan2(0.3).rem_euclid(2.0 * PI)).abs() < 1e-12,
+                "{t}"
+            );
+        }
+        // along the current, the vector sum is the scalar one of the paper
+        let q = RippleParams {
+            wave_angle: Some(0.0),
+            ..p.clone()
+        };
+        let r = RippleParams {
+            wave_angle: None,
+            ..p
+        };
+        for t in 0..8u64 {
+            let (a, b) = (Flow::at(&q, t, false), Flow::at(&r, t, false));
+            assert!((a.speed - b.speed).abs() < 1e-12 && (a.angle - b.angle).abs() < 1e-12);
+        }
     }
 
     #[test]
