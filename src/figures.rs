@@ -64,6 +64,7 @@ pub fn study(name: &str) -> Option<&'static dyn crate::engine::study::Study> {
         "dunes" => Some(&crate::dunes::ErrorStudy),
         "windripples" => Some(&crate::windripples::figures::ErrorStudy),
         "ripple" => Some(&crate::ripple::figures::ErrorStudy),
+        "raytrace" => Some(&crate::raytrace::figures::ErrorStudy),
         _ => None,
     }
 }

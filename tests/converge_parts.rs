@@ -1,7 +1,7 @@
 //! `cellsurf converge STUDY --part i/N` and `--gather`: parts run as separate processes at
 //! once, gathered, give the same figure table as the study run whole by one process (apart
 //! from the measured run times); a missing or repeated part and bad `--part` values are
-//! refused by name.
+//! refused by name; the ray tracer's study splits by step size.
 #![cfg(feature = "cli")]
 
 mod common;
@@ -92,7 +92,7 @@ fn parts_run_at_once_gather_to_the_whole_study() {
 }
 
 #[test]
-fn bad_parts_and_unsplit_studies_are_refused_by_name() {
+fn bad_parts_are_refused_by_name() {
     for bad in ["3/3", "-1/2", "a/b", "0/0"] {
         let r = cellsurf(&[
             "converge",
@@ -109,7 +109,44 @@ fn bad_parts_and_unsplit_studies_are_refused_by_name() {
         );
         assert!(!err.contains("panicked"), "{err}");
     }
-    let r = cellsurf(&["converge", "raytrace", "--part", "0/2"]);
-    let err = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success() && err.contains("run it whole"), "{err}");
+}
+
+#[test]
+fn the_raytrace_study_splits_by_step_size() {
+    let dir = common::tmp_in("converge-raytrace", "x");
+    let dir = dir.parent().unwrap().to_path_buf();
+    let d = dir.display().to_string();
+    for p in ["0/3", "1/3", "2/3"] {
+        let r = cellsurf(&[
+            "converge",
+            "raytrace",
+            "--quiet",
+            "--part",
+            p,
+            "--out-dir",
+            &d,
+        ]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    let r = cellsurf(&[
+        "converge",
+        "raytrace",
+        "--gather",
+        "--quiet",
+        "--out-dir",
+        &d,
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // chart 0 (error against step size) has no timing in it: 3 series of the 8 step sizes
+    let t = std::fs::read_to_string(dir.join("data/raytrace_error_vs_time.csv")).unwrap();
+    let ds: Vec<&str> = t
+        .lines()
+        .filter(|l| l.starts_with("0,0,"))
+        .map(|l| l.split(',').nth(2).unwrap())
+        .collect();
+    assert_eq!(
+        ds,
+        ["4000", "2000", "1000", "500", "250", "100", "50", "20"]
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -133,8 +133,8 @@ pub struct ConvergeArgs {
     #[arg(long)]
     quiet: bool,
     /// Run part i of N of the study's runs (i in 0..N-1) and write their records to
-    /// --out-dir (growth: growth_error_vs_time.part-i-of-N.json; dunes, ripple, windripples:
-    /// STUDY_error_vs_time.part-i-of-N.toml); then --gather. Not for raytrace.
+    /// --out-dir (growth: growth_error_vs_time.part-i-of-N.json; the others:
+    /// STUDY_error_vs_time.part-i-of-N.toml); then --gather.
     #[arg(
         long,
         value_name = "i/N",

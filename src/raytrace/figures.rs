@@ -413,9 +413,46 @@ fn draw_zoom<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The step sizes of the error-against-time figure, m.
+const ERROR_STEPS: [f64; 8] = [4000.0, 2000.0, 1000.0, 500.0, 250.0, 100.0, 50.0, 20.0];
+
+/// The study behind `raytrace_error_vs_time.png` as independent runs (one per step size), for
+/// `cellsurf converge raytrace --part i/N` ([`crate::engine::study`]).
+pub struct ErrorStudy;
+
+impl crate::engine::study::Study for ErrorStudy {
+    fn name(&self) -> &'static str {
+        "raytrace"
+    }
+    fn parallel(&self) -> bool {
+        false // each run times its rays
+    }
+    fn runs(&self) -> Vec<String> {
+        ERROR_STEPS.iter().map(|ds| format!("ds {ds} m")).collect()
+    }
+    fn run(&self, name: &str) -> Result<toml::Value, String> {
+        let ds: f64 = name
+            .strip_prefix("ds ")
+            .and_then(|r| r.strip_suffix(" m"))
+            .and_then(|v| v.parse().ok())
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        let e = error_study(&[ds]).map_err(|e| e.to_string())?;
+        crate::engine::study::record(&e[0])
+    }
+    fn draw(&self, records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, String> {
+        let e = records
+            .iter()
+            .map(crate::engine::study::from_record::<super::StepError>)
+            .collect::<Result<Vec<_>, _>>()?;
+        draw_error(&e, dir).map_err(|e| e.to_string())
+    }
+}
+
 fn error_vs_time(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let steps = [4000.0, 2000.0, 1000.0, 500.0, 250.0, 100.0, 50.0, 20.0];
-    let e = error_study(&steps).map_err(model_err)?;
+    crate::engine::study::run_whole(&ErrorStudy, dir).map_err(FigureError::Model)
+}
+
+fn draw_error(e: &[super::StepError], dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let series = |x: &dyn Fn(&super::StepError) -> f64| {
         vec![
             Series {

@@ -613,7 +613,7 @@ pub fn linear_arc_centre(c0: f64, g: f64, x0: f64, z0: f64, theta0: f64) -> (f64
 }
 
 /// One step size of [`error_study`].
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepError {
     /// Step, m.
     pub ds: f64,
