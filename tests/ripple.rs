@@ -695,7 +695,7 @@ fn default_run_against_soulsby() {
     let mut r = Ripple::new(&p).unwrap();
     r.run(p.steps, |_| {});
     let a = Analysis::of(&r);
-    let (l, h) = cellsurf::ripple::spectrum::soulsby_whitehouse(p.d50 * 1e-3);
+    let (l, h) = cellsurf::ripple::predictors::soulsby_whitehouse(p.d50 * 1e-3);
     eprintln!("{a:?}\nSoulsby & Whitehouse: wavelength {l} m, height {h} m");
     assert!((25.0..=32.0).contains(&a.lee_slope_deg), "{a:?}");
     assert!(a.lee_slope_deg > 1.3 * a.stoss_slope_deg, "{a:?}");

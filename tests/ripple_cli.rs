@@ -313,3 +313,154 @@ fn waves_by_orbital_velocity_period_and_angle() {
         assert!(err.contains(flag), "{extra:?}: {err}");
     }
 }
+
+/// Surface waves by linear wave theory: height, period and depth give the near-bed orbital
+/// velocity `pi H / (T sinh kh)`; breaking waves, angles outside [-360, 360] and periods that
+/// are not positive are refused by name.
+#[test]
+fn surface_waves_by_linear_theory_and_bad_wave_input() {
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "ripple",
+            "--size",
+            "24x12",
+            "--layers",
+            "10",
+            "--seed",
+            "3",
+            "--steps",
+            "100",
+            "--json",
+            "--d50",
+            "0.3",
+            "--current-speed",
+            "0",
+        ];
+        args.extend_from_slice(extra);
+        cellsurf(&args)
+    };
+    // T = 8 s, h = 10 m: k h = 0.8862; H = 1 m gives U_w = pi / (8 sinh 0.8862)
+    let o = run(&[
+        "--wave-height",
+        "1",
+        "--wave-period",
+        "8s",
+        "--water-depth",
+        "10",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let uw = v["wave_velocity_m_per_s"].as_f64().unwrap();
+    assert!((uw - 0.39002).abs() < 1e-4, "{uw}");
+    assert_eq!(v["parameters"]["wave_amplitude"].as_f64(), Some(uw));
+    assert_eq!(v["water_depth_m"], 10.0);
+    let d0 = v["orbital_diameter_m"].as_f64().unwrap();
+    assert!((d0 - uw * 8.0 / std::f64::consts::PI).abs() < 1e-9, "{d0}");
+    // the prediction the run is checked against: Wiberg & Harris for a wave-dominated flow
+    assert!(
+        v["predictor"]
+            .as_str()
+            .unwrap()
+            .starts_with("Wiberg & Harris (1994)"),
+        "{}",
+        v["predictor"]
+    );
+    for (extra, flag, range) in [
+        (
+            &[
+                "--wave-height",
+                "2",
+                "--wave-period",
+                "8s",
+                "--water-depth",
+                "2",
+            ][..],
+            "--wave-height",
+            "0.78",
+        ),
+        (
+            &[
+                "--wave-height",
+                "-1",
+                "--wave-period",
+                "8s",
+                "--water-depth",
+                "5",
+            ][..],
+            "--wave-height",
+            "(0, 100]",
+        ),
+        (
+            &["--current-angle", "400"][..],
+            "--current-angle",
+            "[-360, 360]",
+        ),
+        (
+            &[
+                "--wave-velocity",
+                "0.3",
+                "--wave-period",
+                "4s",
+                "--wave-angle",
+                "-361",
+            ][..],
+            "--wave-angle",
+            "[-360, 360]",
+        ),
+        (
+            &["--wave-velocity", "0.3", "--wave-period", "0"][..],
+            "--wave-period",
+            "above 0",
+        ),
+        (
+            &["--wave-velocity", "0.3", "--wave-period", "-4s"][..],
+            "--wave-period",
+            "above 0",
+        ),
+        (
+            &["--duration", "two hours"][..],
+            "--duration",
+            "s, min, h or d",
+        ),
+    ] {
+        let o = run(extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_ne!(o.status.code(), Some(0), "{extra:?}: {err}");
+        assert!(!err.contains("panicked"), "{extra:?}: {err}");
+        assert!(
+            err.contains(flag) && err.contains(range),
+            "{extra:?}: {err}"
+        );
+    }
+}
+
+/// A domain shorter than 4 wavelengths of the predicted ripple along the flow gets a warning
+/// naming both lengths; a long enough one gets none.
+#[test]
+fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
+    let run = |size: &str, angle: &str| {
+        cellsurf(&[
+            "ripple",
+            "--size",
+            size,
+            "--layers",
+            "10",
+            "--steps",
+            "20",
+            "--current-angle",
+            angle,
+        ])
+    };
+    // 0.2 mm sand: Soulsby & Whitehouse predict 0.146 m, 4 wavelengths 0.584 m
+    let o = run("128x64", "90");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("0.320 m") && err.contains("0.584 m") && err.contains("Soulsby"),
+        "{err}"
+    );
+    let o = run("128x64", "0");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("wavelengths of the predicted"), "{err}");
+}

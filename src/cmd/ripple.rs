@@ -16,7 +16,9 @@ use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::run_until_mature;
+use cellsurf::ripple::predictors::{Prediction, length_along};
 use cellsurf::ripple::regime::Regime;
+use cellsurf::ripple::waves::SurfaceWave;
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -68,7 +70,7 @@ pub struct Args {
     /// Simulated duration instead of --steps: seconds, or with a unit (`90s`, `30min`, `2h`,
     /// `1d`). The steps follow from the duration of a step, set by the Meyer-Peter & Mueller
     /// bedload (--json reports `step_duration_s`).
-    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, conflicts_with = "steps")]
+    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, conflicts_with = "steps", allow_hyphen_values = true)]
     duration: Option<f64>,
     /// Stop early once the field is mature: `equilibrium` (wavelength and height change by
     /// less than 10 % between t and 2t, checked at 1000 steps and its doublings); --steps or
@@ -84,7 +86,8 @@ pub struct Args {
     /// Sorting sigma_phi, phi units, 0 to 2 [default: 0.5].
     #[arg(long)]
     sorting: Option<f64>,
-    /// Current direction, degrees counter-clockwise from +x; 0 or 180 in 2d [default: 0].
+    /// Current direction, degrees counter-clockwise from +x, -360 to 360; 0 or 180 in 2d
+    /// [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// Current speed, m/s [default: 0.5].
@@ -92,14 +95,22 @@ pub struct Args {
     current_speed: Option<f64>,
     /// Wave period, seconds or with a unit (`8s`); converted to steps with the step duration
     /// (--json reports `wave_period_steps`) [default: no wave].
-    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration)]
+    #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, allow_hyphen_values = true)]
     wave_period: Option<f64>,
     /// Near-bed orbital velocity amplitude of the waves, m/s (needs --wave-period)
     /// [default: 0].
     #[arg(long = "wave-velocity", alias = "wave-amplitude")]
     wave_amplitude: Option<f64>,
-    /// Direction the waves propagate towards, degrees counter-clockwise from +x; 3-D only
-    /// [default: the current's direction].
+    /// Surface wave height H (crest to trough), m: the near-bed orbital velocity then follows
+    /// from linear wave theory with --wave-period and --water-depth (instead of
+    /// --wave-velocity); refused above 0.78 x depth or 1/7 of the wavelength (breaking).
+    #[arg(long, value_name = "M", conflicts_with = "wave_amplitude", requires_all = ["wave_period", "water_depth"])]
+    wave_height: Option<f64>,
+    /// Water depth h, m, for --wave-height.
+    #[arg(long, value_name = "M", requires = "wave_height")]
+    water_depth: Option<f64>,
+    /// Direction the waves propagate towards, degrees counter-clockwise from +x, -360 to 360;
+    /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
     wave_angle: Option<f64>,
     /// Avalanche angle alpha, degrees [default: 32].
@@ -200,6 +211,9 @@ fn params(a: &Args) -> Result<RippleParams> {
     if a.wave_period.is_some() {
         // seconds; a provisional period in steps until the step duration is known
         p.wave_period = 64.0;
+    }
+    if let (Some(h), Some(t), Some(d)) = (a.wave_height, a.wave_period, a.water_depth) {
+        p.wave_amplitude = SurfaceWave::new(h, t, d)?.orbital_velocity();
     }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
@@ -355,6 +369,34 @@ pub fn run(a: Args) -> Result<()> {
     } else {
         p.steps
     };
+    let wave_period_s = match (a.wave_period, clock.as_ref()) {
+        (Some(t), _) => t,
+        (None, Some(c)) => c.step_s * p.wave_period,
+        (None, None) => 0.0,
+    };
+    let predicted = Prediction::of(p.d50, p.current_speed, p.wave_amplitude, wave_period_s);
+    let flow_angle = if p.wave_amplitude > p.current_speed {
+        p.wave_angle.unwrap_or(p.current_angle)
+    } else {
+        p.current_angle
+    };
+    let along = length_along(
+        p.nx as f64 * p.bin_size,
+        p.rows() as f64 * p.bin_size,
+        flow_angle,
+    );
+    if reg.regime == Regime::Ripples && along < 4.0 * predicted.wavelength {
+        conv::note(format_args!(
+            "warning: the domain is {along:.3} m long along the flow ({flow_angle} deg), less than 4 wavelengths of the predicted ripple (4 x {:.3} m = {:.3} m, {}): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
+            predicted.wavelength,
+            4.0 * predicted.wavelength,
+            predicted.source
+        ));
+    }
+    let surface = match (a.wave_height, a.wave_period, a.water_depth) {
+        (Some(h), Some(t), Some(d)) => Some(SurfaceWave::new(h, t, d)?),
+        _ => None,
+    };
 
     let times: Vec<u64> = match &a.snapshots {
         Some(t) => t.clone(),
@@ -431,16 +473,26 @@ pub fn run(a: Args) -> Result<()> {
                 serde_json::Value::Null
             }
         };
-        let own = serde_json::json!({
+        let waves_and_checks = serde_json::json!({
+            "wave_velocity_m_per_s": (p.wave_amplitude > 0.0).then_some(p.wave_amplitude),
+            "wave_height_m": surface.map(|w| w.height),
+            "water_depth_m": surface.map(|w| w.depth),
+            "surface_wavelength_m": surface.map(|w| w.wavelength()),
+            "predicted_wavelength_m": predicted.wavelength,
+            "predicted_height_m": predicted.height,
+            "predictor": predicted.source,
+            "domain_length_along_flow_m": along,
+        });
+        let mut own = serde_json::json!({
             "regime": reg.regime.name(),
             "shields": reg.shields,
             "shields_critical": reg.shields_critical,
             "bed_shear_stress_pa": reg.bed_shear_stress,
             "ripple_regime_speeds_m_per_s": [lo, hi],
             "coarse_sand": reg.coarse,
-            "wave_period_s": clock.filter(|_| p.wave_period > 0.0).map(|c| num(c.step_s * p.wave_period)),
+            "wave_period_s": (wave_period_s > 0.0).then(|| num(wave_period_s)),
             "wave_period_steps": (p.wave_period > 0.0).then_some(p.wave_period),
-            "orbital_diameter_m": clock.filter(|_| p.wave_period > 0.0).map(|c| num(p.wave_amplitude * c.step_s * p.wave_period / std::f64::consts::PI)),
+            "orbital_diameter_m": (wave_period_s > 0.0).then(|| num(p.wave_amplitude * wave_period_s / std::f64::consts::PI)),
             "step_duration_s": clock.map(|c| num(c.step_s)),
             "simulated_time_s": clock.map(|c| num(c.step_s * s.steps as f64)),
             "bedload_m2_per_s": clock.map(|c| c.bedload),
@@ -471,6 +523,9 @@ pub fn run(a: Args) -> Result<()> {
             "creeps": s.creeps,
             "bytes_per_automaton": r.bytes_per_automaton(),
         });
+        if let (Some(o), serde_json::Value::Object(w)) = (own.as_object_mut(), waves_and_checks) {
+            o.extend(w);
+        }
         let v = conv::envelope("ripple", &p, elapsed, own)?;
         println!("{}", serde_json::to_string(&v)?);
     } else {

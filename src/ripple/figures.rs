@@ -542,7 +542,7 @@ fn draw_error(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, Figur
             vec![pts[4][0], at_base, pts[5][0]],
         ),
     ];
-    let (sw_l, sw_h) = super::spectrum::soulsby_whitehouse(base.d50 * 1e-3);
+    let (sw_l, sw_h) = super::predictors::soulsby_whitehouse(base.d50 * 1e-3);
     let reference = [Some(sw_l * 100.0), Some(sw_h * 100.0), Some(sw_l / sw_h)];
     let names = ["wavelength", "height", "ripple index"];
     let units = [" (cm)", " (cm)", ""];

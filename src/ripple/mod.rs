@@ -15,6 +15,10 @@
 //! - [`clock`]: the physical duration of a step from the Meyer-Peter & Mueller bedload
 //!   ([`clock::StepClock`]).
 //! - [`equilibrium`]: running until the field is mature ([`equilibrium::run_until_mature`]).
+//! - [`predictors`]: the ripple that Soulsby & Whitehouse (2005) or Wiberg & Harris (1994)
+//!   expect for a run, as a check ([`predictors::Prediction`]).
+//! - [`waves`]: near-bed orbital velocity of surface waves by linear wave theory
+//!   ([`waves::SurfaceWave`]).
 //! - [`regime`]: the flow regime of a run (no motion, ripples, sheet flow) from the Shields
 //!   number of the median grain ([`regime::RegimeReport`]).
 //! - [`output`]: NetCDF-3 (64-bit offset, CF-style) and `.npy` volumes, written atomically;
@@ -54,11 +58,13 @@ pub mod model;
 pub mod morphometry;
 pub mod output;
 pub mod params;
+pub mod predictors;
 pub mod regime;
 pub mod rules;
 pub mod spectrum;
 pub mod volume;
 pub mod water;
+pub mod waves;
 #[cfg(feature = "zarr")]
 pub mod zarr;
 

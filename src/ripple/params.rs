@@ -116,7 +116,8 @@ pub struct RippleParams {
     /// limit of "poorly sorted" in Folk & Ward; wider gives grains of metres and of microns in
     /// the 4-sigma tails). Default 0.5.
     pub sorting: f64,
-    /// Direction the current flows towards, degrees counter-clockwise from +x. Default 0.
+    /// Direction the current flows towards, degrees counter-clockwise from +x, -360..=360.
+    /// Default 0.
     pub current_angle: f64,
     /// Steady current speed in the free stream, m/s, 0..=10. Default 0.5.
     pub current_speed: f64,
@@ -127,7 +128,7 @@ pub struct RippleParams {
     /// 0..=10. Default 0.
     pub wave_amplitude: f64,
     /// Direction the waves propagate towards, degrees counter-clockwise from +x; absent: along
-    /// `current_angle`. 3-D only. Default absent.
+    /// `current_angle`; -360..=360. 3-D only. Default absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wave_angle: Option<f64>,
     /// Avalanche angle alpha (Eq. 6), degrees, in (0, 90). Default 32.
@@ -341,8 +342,8 @@ impl RippleParams {
         check_f(
             "current_angle",
             self.current_angle,
-            -3600.0,
-            3600.0,
+            -360.0,
+            360.0,
             false,
             false,
         )?;
@@ -364,7 +365,7 @@ impl RippleParams {
             false,
         )?;
         if let Some(a) = self.wave_angle {
-            check_f("wave_angle", a, -3600.0, 3600.0, false, false)?;
+            check_f("wave_angle", a, -360.0, 360.0, false, false)?;
             if self.mode == Mode::TwoD {
                 return Err(range(
                     "wave_angle",

@@ -195,22 +195,6 @@ impl Analysis {
     }
 }
 
-/// Soulsby & Whitehouse (2005), "Prediction of ripple properties in shelf seas",
-/// HR Wallingford report TR 150: equilibrium current ripples, valid for
-/// 1.2 < D* < 16: (wavelength m, height m) for `d50` in m.
-pub fn soulsby_whitehouse(d50: f64) -> (f64, f64) {
-    let ds = super::grain::d_star(d50);
-    (
-        d50 * (500.0 + 1881.0 * ds.powf(-1.5)),
-        d50 * 202.0 * ds.powf(-0.554),
-    )
-}
-
-/// Soulsby (1997) Eq. 81 current ripples: (wavelength m, height m) = (1000 d50, 1000 d50 / 7).
-pub fn soulsby_1997(d50: f64) -> (f64, f64) {
-    (1000.0 * d50, 1000.0 * d50 / 7.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,13 +213,5 @@ mod tests {
         let k = ((4.0f64 / 0.64).powi(2) + (2.0f64 / 0.32).powi(2)).sqrt();
         assert!((wl - 1.0 / k).abs() < 1e-9, "{wl}");
         assert!((ang - 45.0).abs() < 1e-6, "{ang}");
-    }
-
-    #[test]
-    fn soulsby_whitehouse_check_value() {
-        // Soulsby & Whitehouse (2005): d50 = 0.2 mm -> lambda = 14.6 cm, height = 1.86 cm.
-        let (l, h) = soulsby_whitehouse(0.2e-3);
-        assert!((l - 0.146).abs() < 0.002, "{l}");
-        assert!((h - 0.0186).abs() < 0.0005, "{h}");
     }
 }

@@ -1,0 +1,242 @@
+//! [`Prediction`]: the ripple that empirical predictors expect for a run's sediment and flow.
+//! They are checks on the model, never inputs to it: no length of the rules is computed from
+//! them.
+//!
+//! - Current ripples: R. L. Soulsby and R. J. S. Whitehouse (2005), "Prediction of ripple
+//!   properties in shelf seas. Mark 2 predictor for time evolution", HR Wallingford report
+//!   TR 154 ([`soulsby_whitehouse`]); the older rule of thumb of R. L. Soulsby (1997),
+//!   *Dynamics of Marine Sands*, Thomas Telford, Eq. 81 ([`soulsby_1997`]).
+//! - Wave ripples in the orbital regime: P. L. Wiberg and C. K. Harris (1994), "Ripple
+//!   geometry in wave-dominated environments", *J. Geophys. Res.* 99(C1), 775-789,
+//!   <https://doi.org/10.1029/93JC02726>: orbital, suborbital and anorbital ripples
+//!   ([`wiberg_harris`]).
+//!
+//! [`Prediction::of`] picks the predictor of the dominant flow: waves when their orbital
+//! velocity exceeds the current, the current otherwise.
+
+use super::grain::d_star;
+
+/// Eq. of Soulsby & Whitehouse (2005) for equilibrium current ripples, valid for
+/// 1.2 < D* < 16: wavelength `lambda = d50 (500 + 1881 D*^-1.5)` and height
+/// `eta = 202 d50 D*^-0.554`; (wavelength m, height m) for `d50` in m.
+pub fn soulsby_whitehouse(d50: f64) -> (f64, f64) {
+    let ds = d_star(d50);
+    (
+        d50 * (500.0 + 1881.0 * ds.powf(-1.5)),
+        d50 * 202.0 * ds.powf(-0.554),
+    )
+}
+
+/// Soulsby (1997) Eq. 81, current ripples: (wavelength m, height m) = (1000 d50, 1000 d50 / 7).
+pub fn soulsby_1997(d50: f64) -> (f64, f64) {
+    (1000.0 * d50, 1000.0 * d50 / 7.0)
+}
+
+/// The wavelength of orbital wave ripples as a fraction of the orbital diameter d0 (Wiberg &
+/// Harris 1994).
+pub const ORBITAL_WAVELENGTH_PER_D0: f64 = 0.62;
+
+/// The wavelength of anorbital wave ripples in median grain diameters (Wiberg & Harris 1994).
+pub const ANORBITAL_WAVELENGTH_PER_D50: f64 = 535.0;
+
+/// The regime of wave ripples (Wiberg & Harris 1994), by `d0 / eta_ano`, the orbital diameter
+/// over the height of the anorbital ripple.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum WaveRippleRegime {
+    /// `d0 / eta_ano < 20`: wavelength `0.62 d0`.
+    Orbital,
+    /// Between: the wavelength interpolated in logarithms.
+    Suborbital,
+    /// `d0 / eta_ano > 100`: wavelength `535 d50`.
+    Anorbital,
+}
+
+/// Wiberg & Harris (1994) ripple steepness: the height `eta` of a wave ripple of wavelength
+/// `lambda` under orbital diameter `d0`, from `eta / lambda = exp(-0.095 u^2 + 0.442 u - 2.28)`
+/// with `u = ln(d0 / eta)`. Written as `0.095 u^2 - 1.442 u + 2.28 + ln(d0 / lambda) = 0`, its
+/// root on the branch where the steepness falls with `d0 / eta` (the smaller root). Where
+/// `d0 / lambda` exceeds about 24 there is no root: the steepness there is taken at the
+/// vertex, its smallest value on that branch (0.012).
+pub fn wiberg_harris_height(lambda: f64, d0: f64) -> f64 {
+    let c = 2.28 + (d0 / lambda).ln();
+    let disc = (1.442f64 * 1.442 - 4.0 * 0.095 * c).max(0.0);
+    let u = (1.442 - disc.sqrt()) / (2.0 * 0.095);
+    d0 * (-u).exp()
+}
+
+/// Wiberg & Harris (1994) wave ripples for orbital diameter `d0` m and median grain size
+/// `d50` m: (wavelength m, height m, regime). Orbital `lambda = 0.62 d0`, anorbital
+/// `lambda = 535 d50`, suborbital interpolated between them in `ln(d0 / eta_ano)` from 20 to
+/// 100; heights by [`wiberg_harris_height`].
+pub fn wiberg_harris(d0: f64, d50: f64) -> (f64, f64, WaveRippleRegime) {
+    let l_orb = ORBITAL_WAVELENGTH_PER_D0 * d0;
+    let l_ano = ANORBITAL_WAVELENGTH_PER_D50 * d50;
+    let r = d0 / wiberg_harris_height(l_ano, d0);
+    let (l, regime) = if r < 20.0 {
+        (l_orb, WaveRippleRegime::Orbital)
+    } else if r > 100.0 {
+        (l_ano, WaveRippleRegime::Anorbital)
+    } else {
+        let f = (r.ln() - 100f64.ln()) / (20f64.ln() - 100f64.ln());
+        (
+            (f * (l_orb.ln() - l_ano.ln()) + l_ano.ln()).exp(),
+            WaveRippleRegime::Suborbital,
+        )
+    };
+    (l, wiberg_harris_height(l, d0), regime)
+}
+
+/// The ripple a predictor expects for a run.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Prediction {
+    /// Wavelength, m.
+    pub wavelength: f64,
+    /// Height, m.
+    pub height: f64,
+    /// The predictor: `Soulsby & Whitehouse (2005)` or `Wiberg & Harris (1994), REGIME`.
+    pub source: &'static str,
+}
+
+impl Prediction {
+    /// The prediction for median grain size `d50_mm` (mm) under a current of `current_speed`
+    /// m/s and waves of orbital velocity amplitude `wave_velocity` m/s and period
+    /// `wave_period_s` s (0: none): the waves' when `wave_velocity > current_speed`, the
+    /// current's otherwise.
+    pub fn of(
+        d50_mm: f64,
+        current_speed: f64,
+        wave_velocity: f64,
+        wave_period_s: f64,
+    ) -> Prediction {
+        if wave_velocity > current_speed && wave_period_s > 0.0 {
+            let d0 = wave_velocity * wave_period_s / std::f64::consts::PI;
+            let (wavelength, height, regime) = wiberg_harris(d0, d50_mm * 1e-3);
+            Prediction {
+                wavelength,
+                height,
+                source: match regime {
+                    WaveRippleRegime::Orbital => "Wiberg & Harris (1994), orbital",
+                    WaveRippleRegime::Suborbital => "Wiberg & Harris (1994), suborbital",
+                    WaveRippleRegime::Anorbital => "Wiberg & Harris (1994), anorbital",
+                },
+            }
+        } else {
+            let (wavelength, height) = soulsby_whitehouse(d50_mm * 1e-3);
+            Prediction {
+                wavelength,
+                height,
+                source: "Soulsby & Whitehouse (2005)",
+            }
+        }
+    }
+}
+
+/// The length of the torus along direction `angle_deg` (degrees from +x) before a straight
+/// line leaves the `lx` x `ly` m rectangle: `min(lx / |cos|, ly / |sin|)`, m.
+pub fn length_along(lx: f64, ly: f64, angle_deg: f64) -> f64 {
+    let (s, c) = angle_deg.to_radians().sin_cos();
+    let along_x = if c.abs() > 1e-12 {
+        lx / c.abs()
+    } else {
+        f64::INFINITY
+    };
+    let along_y = if s.abs() > 1e-12 {
+        ly / s.abs()
+    } else {
+        f64::INFINITY
+    };
+    along_x.min(along_y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn soulsby_whitehouse_check_value() {
+        // Soulsby & Whitehouse (2005): d50 = 0.2 mm -> lambda = 14.6 cm, height = 1.86 cm.
+        let (l, h) = soulsby_whitehouse(0.2e-3);
+        assert!((l - 0.146).abs() < 0.002, "{l}");
+        assert!((h - 0.0186).abs() < 0.0005, "{h}");
+    }
+
+    #[test]
+    fn soulsby_whitehouse_grows_with_d50_and_keeps_the_ripple_index() {
+        let mut last = (0.0, 0.0);
+        for d in [0.1e-3, 0.2e-3, 0.4e-3, 0.6e-3] {
+            let (l, h) = soulsby_whitehouse(d);
+            assert!(l > last.0 && h > last.1, "d50 {d}: {l} {h}");
+            assert!(
+                (6.0..=12.0).contains(&(l / h)),
+                "d50 {d}: ripple index {}",
+                l / h
+            );
+            last = (l, h);
+        }
+    }
+
+    #[test]
+    fn soulsby_1997_eq81() {
+        let (l, h) = soulsby_1997(0.3e-3);
+        assert!((l - 0.3).abs() < 1e-12 && (h - 0.3 / 7.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wiberg_harris_steepness_equation() {
+        // the height solves eta / lambda = exp(-0.095 u^2 + 0.442 u - 2.28), u = ln(d0 / eta)
+        for (l, d0) in [(0.248, 0.4), (0.107, 1.0), (0.05, 0.3)] {
+            let h = wiberg_harris_height(l, d0);
+            let u = (d0 / h).ln();
+            let rhs = (-0.095 * u * u + 0.442 * u - 2.28).exp();
+            assert!(
+                (h / l - rhs).abs() < 1e-12,
+                "{l} {d0}: {} against {rhs}",
+                h / l
+            );
+        }
+        // orbital ripples: steepness 0.17 (the largest the relation gives)
+        let h = wiberg_harris_height(0.62 * 0.4, 0.4);
+        assert!(
+            (h / (0.62 * 0.4) - 0.171).abs() < 0.001,
+            "{}",
+            h / (0.62 * 0.4)
+        );
+    }
+
+    #[test]
+    fn wiberg_harris_regimes() {
+        // 0.3 mm sand, d0 = 0.2 m: orbital, lambda = 0.62 d0
+        let (l, _, r) = wiberg_harris(0.2, 0.3e-3);
+        assert_eq!(r, WaveRippleRegime::Orbital);
+        assert!((l - 0.124).abs() < 1e-12, "{l}");
+        // 0.2 mm sand, d0 = 3 m: anorbital, lambda = 535 d50
+        let (l, _, r) = wiberg_harris(3.0, 0.2e-3);
+        assert_eq!(r, WaveRippleRegime::Anorbital);
+        assert!((l - 0.107).abs() < 1e-12, "{l}");
+        // between, the wavelength lies between the two
+        let (l, _, r) = wiberg_harris(0.8, 0.2e-3);
+        assert_eq!(r, WaveRippleRegime::Suborbital);
+        assert!(l > 0.107 && l < 0.62 * 0.8, "{l}");
+    }
+
+    #[test]
+    fn prediction_follows_the_dominant_flow() {
+        let c = Prediction::of(0.2, 0.5, 0.0, 0.0);
+        assert_eq!(c.source, "Soulsby & Whitehouse (2005)");
+        // U_w = 0.4 m/s, T = pi s: d0 = 0.4 m
+        let w = Prediction::of(0.3, 0.1, 0.4, std::f64::consts::PI);
+        assert_eq!(w.source, "Wiberg & Harris (1994), orbital");
+        assert!((w.wavelength - 0.248).abs() < 1e-12, "{}", w.wavelength);
+        // a weaker wave leaves the current's prediction
+        assert_eq!(Prediction::of(0.2, 0.5, 0.3, 8.0), c);
+    }
+
+    #[test]
+    fn length_along_axes_and_diagonal() {
+        assert_eq!(length_along(0.64, 0.32, 0.0), 0.64);
+        assert!((length_along(0.64, 0.32, 90.0) - 0.32).abs() < 1e-12);
+        assert!((length_along(0.64, 0.32, 180.0) - 0.64).abs() < 1e-12);
+        let d = length_along(1.0, 1.0, 45.0);
+        assert!((d - 2f64.sqrt()).abs() < 1e-12, "{d}");
+    }
+}
