@@ -39,6 +39,7 @@ pub const MEASURED: &[(&str, &str)] = &[
     ("raytrace", "raytrace_error_vs_time"),
     ("ripple", "ripple_error_vs_time"),
     ("windripples", "windripples_error_vs_time"),
+    ("ripple_validation", "ripple_validation"),
 ];
 
 /// Makes figure `f` in `dir`. A [`MEASURED`] figure is drawn from its table in `dir/data/`
@@ -65,6 +66,7 @@ pub fn study(name: &str) -> Option<&'static dyn crate::engine::study::Study> {
         "windripples" => Some(&crate::windripples::figures::ErrorStudy),
         "ripple" => Some(&crate::ripple::figures::ErrorStudy),
         "raytrace" => Some(&crate::raytrace::figures::ErrorStudy),
+        "ripple_validation" => Some(&crate::ripple::figures::ValidationStudy),
         _ => None,
     }
 }
@@ -76,7 +78,7 @@ pub fn draw_study(
     records: &[toml::Value],
     dir: &Path,
 ) -> Result<Vec<PathBuf>, FigureError> {
-    let name = format!("{}_error_vs_time", study.name());
+    let name = study.figure();
     let f = find(&name).ok_or_else(|| FigureError::Model(format!("no figure {name}")))?;
     measured(f, dir, || {
         study.draw(records, dir).map_err(FigureError::Model)

@@ -115,10 +115,12 @@ pub fn defaults_help(scene: SceneKind) -> String {
 #[derive(Args)]
 pub struct ConvergeArgs {
     /// Which study to re-measure: growth (flame, deposition, crystal; both samplers), dunes,
-    /// raytrace, ripple or windripples. Writes the figure MODEL_error_vs_time.png and its
-    /// table (data/MODEL_error_vs_time.csv and .toml) into --out-dir; `cellsurf figures`
-    /// then draws the figure from that table.
-    #[arg(value_parser = ["growth", "dunes", "raytrace", "ripple", "windripples"])]
+    /// raytrace, ripple or windripples (each writes the figure MODEL_error_vs_time.png), or
+    /// ripple_validation (ripple_validation.png: the ripples against the Soulsby & Whitehouse
+    /// and Wiberg & Harris predictors, crest angle against current angle). Writes the figure
+    /// and its table (data/FIGURE.csv and .toml) into --out-dir; `cellsurf figures` then
+    /// draws the figure from that table.
+    #[arg(value_parser = ["growth", "dunes", "raytrace", "ripple", "windripples", "ripple_validation"])]
     study: String,
     /// Folder of the figure and its table.
     #[arg(long, default_value = "figures")]
@@ -134,7 +136,7 @@ pub struct ConvergeArgs {
     quiet: bool,
     /// Run part i of N of the study's runs (i in 0..N-1) and write their records to
     /// --out-dir (growth: growth_error_vs_time.part-i-of-N.json; the others:
-    /// STUDY_error_vs_time.part-i-of-N.toml); then --gather.
+    /// FIGURE.part-i-of-N.toml); then --gather.
     #[arg(
         long,
         value_name = "i/N",
@@ -173,7 +175,7 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
             part,
             records,
         };
-        let path = a.out_dir.join(PartFile::file_name(study.name(), part));
+        let path = a.out_dir.join(PartFile::file_name(&study.figure(), part));
         write_atomic(&path, toml::to_string(&file)?.as_bytes())
             .with_context(|| format!("writing {}", path.display()))?;
         conv::wrote(&path);
@@ -186,7 +188,7 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
         ));
         return Ok(());
     }
-    let prefix = format!("{}_error_vs_time.part-", study.name());
+    let prefix = format!("{}.part-", study.figure());
     let mut names: Vec<PathBuf> = std::fs::read_dir(&a.out_dir)
         .with_context(|| format!("--gather: reading --out-dir {}", a.out_dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -630,7 +632,13 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         if a.part.is_some() || a.gather {
             return converge_parts(&a);
         }
-        let name = format!("{}_error_vs_time", a.study);
+        let name = cellsurf::figures::MEASURED
+            .iter()
+            .find(|(s, _)| *s == a.study)
+            .map_or_else(
+                || format!("{}_error_vs_time", a.study),
+                |(_, f)| f.to_string(),
+            );
         let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;
         let t = Instant::now();
         for p in cellsurf::figures::make(f, &a.out_dir, true)? {

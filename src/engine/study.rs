@@ -24,6 +24,11 @@ pub use super::part::Part;
 pub trait Study: Sync {
     /// The study's name (`dunes`, `windripples`, ...).
     fn name(&self) -> &'static str;
+    /// The name of the figure it draws (`NAME.png`, its table `data/NAME.csv`); by default
+    /// `STUDY_error_vs_time`.
+    fn figure(&self) -> String {
+        format!("{}_error_vs_time", self.name())
+    }
     /// Whether its runs may run at once (false when each run uses every core itself, or its
     /// timing is wall-clock time).
     fn parallel(&self) -> bool {
@@ -60,7 +65,7 @@ pub fn run_whole(study: &dyn Study, dir: &Path) -> Result<Vec<PathBuf>, String> 
     study.draw(&records, dir)
 }
 
-/// The records a part of a study writes (`STUDY_error_vs_time.part-i-of-N.toml`).
+/// The records a part of a study writes (`FIGURE.part-i-of-N.toml`, [`Study::figure`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PartFile {
     /// The study.
@@ -83,12 +88,9 @@ pub struct PartRecord {
 }
 
 impl PartFile {
-    /// The file name of part `part` of `study`.
-    pub fn file_name(study: &str, part: Part) -> String {
-        format!(
-            "{study}_error_vs_time.part-{}-of-{}.toml",
-            part.index, part.count
-        )
+    /// The file name of part `part` of the study that draws `figure` ([`Study::figure`]).
+    pub fn file_name(figure: &str, part: Part) -> String {
+        format!("{figure}.part-{}-of-{}.toml", part.index, part.count)
     }
 }
 
@@ -201,7 +203,7 @@ mod tests {
         // through the file format and back
         let text = toml::to_string(&f).unwrap();
         (
-            PartFile::file_name("squares", part),
+            PartFile::file_name("squares_error_vs_time", part),
             toml::from_str(&text).unwrap(),
         )
     }

@@ -1,5 +1,6 @@
 //! The ripple figures (feature `plot`), listed in [`FIGURES`]: the paper's Figs. 2, 3, 4, 7 and
-//! 8 regenerated, and the error-versus-CPU-time study.
+//! 8 regenerated, the error-versus-CPU-time study ([`ErrorStudy`]) and the validation against
+//! the ripple predictors ([`ValidationStudy`]).
 //!
 //! Sizes are reduced so that all of them together take well under a minute in release: the
 //! figure run is the scene `scenarios/ripple_fig3.toml` (128 x 64 columns x 30 automata,
@@ -54,6 +55,11 @@ pub const FIGURES: &[Figure] = &[
         name: "ripple_error_vs_time",
         about: "Sand ripple generator: wavelength, height and ripple index (mean over 6 seeds and its standard error) against CPU time, for steps, grid size and bin size",
         make: error_vs_time,
+    },
+    Figure {
+        name: "ripple_validation",
+        about: "Sand ripple generator against the predictors: current ripples' wavelength and height against d50 (Soulsby & Whitehouse 2005), wave ripples' wavelength against d0 (Wiberg & Harris 1994), crest normal against current angle (means over 3 seeds, standard errors)",
+        make: validation,
     },
 ];
 
@@ -605,6 +611,399 @@ fn draw_error(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, Figur
         &charts,
         3,
         (560, 420),
+    )?;
+    Ok(vec![path])
+}
+
+/// Seeds of each point of the validation study.
+const VALIDATION_SEEDS: [u64; 3] = [1, 2, 3];
+
+/// Median grain sizes (mm) of the current-ripple runs of the validation study.
+const VALIDATION_D50_MM: [f64; 3] = [0.1, 0.2, 0.4];
+
+/// Orbital diameters (m) of the wave-ripple runs (0.3 mm sand, U_w = 0.4 m/s, no current).
+const VALIDATION_D0_M: [f64; 3] = [0.2, 0.3, 0.4];
+
+/// Near-bed orbital velocity (m/s) of the wave-ripple runs.
+const VALIDATION_UW: f64 = 0.4;
+
+/// Current angles (degrees) of the crest-orientation runs: 0 to 180 in steps of 15.
+fn validation_angles() -> Vec<f64> {
+    (0..=12).map(|i| 15.0 * i as f64).collect()
+}
+
+/// Simulated seconds of every validation run.
+const VALIDATION_SECONDS: f64 = 300.0;
+
+/// One case of the validation study: current ripples of a grain size, wave ripples of an
+/// orbital diameter, or a current angle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ValidationCase {
+    Current(f64),
+    Wave(f64),
+    Angle(f64),
+}
+
+impl ValidationCase {
+    fn all() -> Vec<ValidationCase> {
+        VALIDATION_D50_MM
+            .iter()
+            .map(|&d| ValidationCase::Current(d))
+            .chain(VALIDATION_D0_M.iter().map(|&d| ValidationCase::Wave(d)))
+            .chain(validation_angles().into_iter().map(ValidationCase::Angle))
+            .collect()
+    }
+
+    fn name(self) -> String {
+        match self {
+            ValidationCase::Current(d) => format!("current d50 {d} mm"),
+            ValidationCase::Wave(d) => format!("wave d0 {d} m"),
+            ValidationCase::Angle(a) => format!("current angle {a} deg"),
+        }
+    }
+
+    /// The run's parameters (before the step duration sets steps and wave period): the
+    /// figure scene on 192 x 48 bins of 5 mm (96 x 24 cm) along the flow, 128 x 128 bins
+    /// (64 x 64 cm) for the angles, 20 automata per column.
+    fn params(self, seed: u64) -> Result<RippleParams, String> {
+        let base = RippleParams {
+            layers: 20,
+            seed,
+            ..scene().map_err(|e| e.to_string())?
+        };
+        Ok(match self {
+            ValidationCase::Current(d50) => RippleParams {
+                nx: 192,
+                ny: 48,
+                d50,
+                ..base
+            },
+            ValidationCase::Wave(_) => RippleParams {
+                nx: 192,
+                ny: 48,
+                d50: 0.3,
+                current_speed: 0.0,
+                wave_amplitude: VALIDATION_UW,
+                wave_period: 64.0,
+                ..base
+            },
+            ValidationCase::Angle(a) => RippleParams {
+                nx: 128,
+                ny: 128,
+                current_angle: a,
+                ..base
+            },
+        })
+    }
+}
+
+/// One run's record in the validation study.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+struct ValidationRecord {
+    wavelength_m: f64,
+    height_m: f64,
+    ripple_index: f64,
+    symmetry_index: f64,
+    crest_normal_deg: f64,
+    steps: u64,
+}
+
+/// Runs `case` for [`VALIDATION_SECONDS`] of flow with `seed`.
+fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, String> {
+    let mut p = case.params(seed)?;
+    let clock = super::clock::StepClock::of(&p).map_err(|e| e.to_string())?;
+    p.steps = clock
+        .steps_for(VALIDATION_SECONDS)
+        .map_err(|e| e.to_string())?;
+    if let ValidationCase::Wave(d0) = case {
+        let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
+        p.wave_period = period_s / clock.step_s;
+    }
+    let mut r = Ripple::new(&p).map_err(|e| e.to_string())?;
+    r.run(p.steps, |_| {});
+    let a = Analysis::of(&r);
+    Ok(ValidationRecord {
+        wavelength_m: a.wavelength_m,
+        height_m: a.height_m,
+        ripple_index: a.ripple_index,
+        symmetry_index: a.symmetry_index,
+        crest_normal_deg: a.crest_normal_deg,
+        steps: p.steps,
+    })
+}
+
+/// The study behind `ripple_validation.png` as independent runs: current ripples for three
+/// grain sizes, wave ripples for three orbital diameters and the crest normal for current
+/// angles 0-180 deg, 3 seeds each, [`VALIDATION_SECONDS`] of flow per run (`cellsurf converge
+/// ripple_validation`, in parts with `--part i/N`).
+pub struct ValidationStudy;
+
+impl crate::engine::study::Study for ValidationStudy {
+    fn name(&self) -> &'static str {
+        "ripple_validation"
+    }
+    fn figure(&self) -> String {
+        "ripple_validation".into()
+    }
+    fn runs(&self) -> Vec<String> {
+        ValidationCase::all()
+            .into_iter()
+            .flat_map(|c| {
+                VALIDATION_SEEDS
+                    .iter()
+                    .map(move |s| format!("{} seed {s}", c.name()))
+            })
+            .collect()
+    }
+    fn run(&self, name: &str) -> Result<toml::Value, String> {
+        let (case, seed) = name
+            .rsplit_once(" seed ")
+            .and_then(|(c, s)| Some((c, s.parse::<u64>().ok()?)))
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        let case = ValidationCase::all()
+            .into_iter()
+            .find(|c| c.name() == case)
+            .ok_or_else(|| format!("not a run of the study: {name}"))?;
+        crate::engine::study::record(&validation_run(case, seed)?)
+    }
+    fn draw(&self, records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, String> {
+        draw_validation(records, dir).map_err(|e| e.to_string())
+    }
+}
+
+/// The validation figure, run whole ([`ValidationStudy`]).
+fn validation(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    crate::engine::study::run_whole(&ValidationStudy, dir).map_err(FigureError::Model)
+}
+
+/// Mean and standard error of the mean of `v`.
+fn mean_se(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (m, (var / n).sqrt())
+}
+
+/// A crest normal (an axis, degrees) folded onto the representative nearest `angle`.
+fn fold_axis(normal: f64, angle: f64) -> f64 {
+    normal - 180.0 * ((normal - angle) / 180.0).round()
+}
+
+/// The model's means (points) and their standard errors (one vertical bar per point, in one
+/// series broken by NaN) at abscissae `x`.
+fn model_series(label: &str, x: &[f64], ms: &[(f64, f64)]) -> [Series; 2] {
+    let mut bx = Vec::new();
+    let mut by = Vec::new();
+    for (&x, &(m, se)) in x.iter().zip(ms) {
+        bx.extend([x, x, f64::NAN]);
+        by.extend([m - se, m + se, f64::NAN]);
+    }
+    [
+        Series {
+            label: format!("{label}: mean over {} seeds", VALIDATION_SEEDS.len()),
+            x: x.to_vec(),
+            y: ms.iter().map(|m| m.0).collect(),
+            points: true,
+        },
+        Series {
+            label: "+- one standard error".into(),
+            x: bx,
+            y: by,
+            points: false,
+        },
+    ]
+}
+
+fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
+    let cases = ValidationCase::all();
+    let n = VALIDATION_SEEDS.len();
+    if records.len() != cases.len() * n {
+        return Err(FigureError::Model(format!(
+            "{} records for {} runs",
+            records.len(),
+            cases.len() * n
+        )));
+    }
+    let recs: Vec<ValidationRecord> = records
+        .iter()
+        .map(crate::engine::study::from_record)
+        .collect::<Result<_, _>>()
+        .map_err(FigureError::Model)?;
+    let stat = |case: ValidationCase, f: &dyn Fn(&ValidationRecord) -> f64| {
+        let i = cases.iter().position(|c| *c == case).unwrap_or(0);
+        mean_se(&recs[i * n..(i + 1) * n].iter().map(f).collect::<Vec<_>>())
+    };
+    let d50: Vec<f64> = VALIDATION_D50_MM.to_vec();
+    let curve_d50: Vec<f64> = (0..=40).map(|i| 0.08 + 0.42 * i as f64 / 40.0).collect();
+    let sw: Vec<(f64, f64)> = curve_d50
+        .iter()
+        .map(|&d| super::predictors::soulsby_whitehouse(d * 1e-3))
+        .collect();
+    let cur = |f: &dyn Fn(&ValidationRecord) -> f64| -> Vec<(f64, f64)> {
+        d50.iter()
+            .map(|&d| {
+                let (m, se) = stat(ValidationCase::Current(d), f);
+                (100.0 * m, 100.0 * se)
+            })
+            .collect()
+    };
+    let mut wl = model_series("model", &d50, &cur(&|r| r.wavelength_m)).to_vec();
+    wl.push(Series {
+        label: "Soulsby & Whitehouse (2005)".into(),
+        x: curve_d50.clone(),
+        y: sw.iter().map(|p| 100.0 * p.0).collect(),
+        points: false,
+    });
+    let mut ht = model_series("model", &d50, &cur(&|r| r.height_m)).to_vec();
+    ht.push(Series {
+        label: "Soulsby & Whitehouse (2005)".into(),
+        x: curve_d50,
+        y: sw.iter().map(|p| 100.0 * p.1).collect(),
+        points: false,
+    });
+    let d0: Vec<f64> = VALIDATION_D0_M.iter().map(|d| 100.0 * d).collect();
+    let waves: Vec<(f64, f64)> = VALIDATION_D0_M
+        .iter()
+        .map(|&d| {
+            let (m, se) = stat(ValidationCase::Wave(d), &|r| r.wavelength_m);
+            (100.0 * m, 100.0 * se)
+        })
+        .collect();
+    let mut wv = model_series("model", &d0, &waves).to_vec();
+    let d0_line = [15.0, 45.0];
+    wv.push(Series {
+        label: "Wiberg & Harris (1994): 0.62 d0".into(),
+        x: d0_line.to_vec(),
+        y: d0_line.iter().map(|d| 0.62 * d).collect(),
+        points: false,
+    });
+    let angles = validation_angles();
+    let crest: Vec<(f64, f64)> = angles
+        .iter()
+        .map(|&a| {
+            stat(ValidationCase::Angle(a), &|r| {
+                fold_axis(r.crest_normal_deg, a)
+            })
+        })
+        .collect();
+    let mut an = model_series("model", &angles, &crest).to_vec();
+    an.push(Series {
+        label: "crest normal = current angle".into(),
+        x: vec![0.0, 180.0],
+        y: vec![0.0, 180.0],
+        points: false,
+    });
+    let shape = |case: &dyn Fn(f64) -> ValidationCase, xs: &[f64], xv: &[f64]| {
+        let ri: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| stat(case(x), &|r| r.ripple_index))
+            .collect();
+        let si: Vec<(f64, f64)> = xs
+            .iter()
+            .map(|&x| stat(case(x), &|r| r.symmetry_index))
+            .collect();
+        let mut v = model_series("ripple index", xv, &ri).to_vec();
+        v.extend(model_series("symmetry index", xv, &si));
+        v
+    };
+    let mut cur_shape = shape(&ValidationCase::Current, &d50, &d50);
+    cur_shape.push(Series {
+        label: "Soulsby & Whitehouse (2005): ripple index".into(),
+        x: d50.clone(),
+        y: d50
+            .iter()
+            .map(|&d| {
+                let (l, h) = super::predictors::soulsby_whitehouse(d * 1e-3);
+                l / h
+            })
+            .collect(),
+        points: false,
+    });
+    cur_shape.push(Series {
+        label: "current ripples: symmetry index at least 2".into(),
+        x: vec![d50[0], d50[d50.len() - 1]],
+        y: vec![2.0, 2.0],
+        points: false,
+    });
+    let mut wave_shape = shape(&ValidationCase::Wave, &VALIDATION_D0_M, &d0);
+    wave_shape.push(Series {
+        label: "Wiberg & Harris (1994), orbital: ripple index".into(),
+        x: d0.clone(),
+        y: VALIDATION_D0_M
+            .iter()
+            .map(|&d| {
+                let (l, h, _) = super::predictors::wiberg_harris(d, 0.3e-3);
+                l / h
+            })
+            .collect(),
+        points: false,
+    });
+    wave_shape.push(Series {
+        label: "symmetric (symmetry index 1)".into(),
+        x: vec![d0[0], d0[d0.len() - 1]],
+        y: vec![1.0, 1.0],
+        points: false,
+    });
+    let seconds = VALIDATION_SECONDS;
+    let charts = vec![
+        Chart {
+            title: format!("current ripples (0.5 m/s, 96 x 24 cm, {seconds} s): wavelength"),
+            x_label: "d50 (mm)".into(),
+            y_label: "wavelength (cm)".into(),
+            series: wl,
+            log_x: false,
+            log_y: false,
+        },
+        Chart {
+            title: format!("current ripples (0.5 m/s, 96 x 24 cm, {seconds} s): height"),
+            x_label: "d50 (mm)".into(),
+            y_label: "height (cm)".into(),
+            series: ht,
+            log_x: false,
+            log_y: false,
+        },
+        Chart {
+            title: format!(
+                "wave ripples (0.3 mm, U_w = {VALIDATION_UW} m/s, 96 x 24 cm, {seconds} s)"
+            ),
+            x_label: "orbital diameter d0 (cm)".into(),
+            y_label: "wavelength (cm)".into(),
+            series: wv,
+            log_x: false,
+            log_y: false,
+        },
+        Chart {
+            title: format!("crest normal against current angle (64 x 64 cm, {seconds} s)"),
+            x_label: "current angle (deg)".into(),
+            y_label: "crest normal (deg)".into(),
+            series: an,
+            log_x: false,
+            log_y: false,
+        },
+        Chart {
+            title: "current ripples: ripple index and symmetry index".into(),
+            x_label: "d50 (mm)".into(),
+            y_label: "ripple index, symmetry index".into(),
+            series: cur_shape,
+            log_x: false,
+            log_y: true,
+        },
+        Chart {
+            title: "wave ripples: ripple index and symmetry index".into(),
+            x_label: "orbital diameter d0 (cm)".into(),
+            y_label: "ripple index, symmetry index".into(),
+            series: wave_shape,
+            log_x: false,
+            log_y: true,
+        },
+    ];
+    let path = dir.join("ripple_validation.png");
+    line_charts(
+        &path,
+        "Sand ripples against the predictors (the model's means and standard errors over 3 seeds)",
+        &charts,
+        2,
+        (640, 460),
     )?;
     Ok(vec![path])
 }

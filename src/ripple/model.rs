@@ -63,6 +63,8 @@ pub struct Ripple {
     /// Creep threshold gamma Delta s in automata (tan gamma dx / gd).
     pub(crate) gamma_layers: f64,
     pub(crate) stack: Vec<u32>,
+    /// The columns a rolling grain passed, for the stoss cap ([`Ripple::roll`]).
+    pub(crate) path: Vec<u32>,
     /// An upper bound of the column heights (raised by every deposit, never lowered).
     pub(crate) hmax_bound: usize,
     /// The smallest height difference (automata) an avalanche can move: max(2, the axial
@@ -150,6 +152,7 @@ impl Ripple {
             beta_layers: [t(p.stoss_angle), t(p.stoss_angle) * sq2],
             gamma_layers: t(p.creep_angle),
             stack: Vec::new(),
+            path: Vec::new(),
             hmax_bound,
             min_drop: ((t(p.avalanche_angle).floor() as i64) + 1).clamp(2, i64::MAX / 4),
             classes,
