@@ -464,3 +464,52 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
     assert!(o.status.success(), "{err}");
     assert!(!err.contains("wavelengths of the predicted"), "{err}");
 }
+
+/// `--frame flow` runs the lattice with its x axis along the current: the bed is the same
+/// whatever the current's angle (the lattice no longer pulls the crests towards its axes and
+/// diagonals), the crest normal is reported from east (the lattice's normal plus the angle),
+/// and the x axis's direction is recorded; the grid frame is the default and 2-D refuses it.
+#[test]
+fn flow_frame_turns_the_lattice_with_the_current() {
+    let run = |angle: &str, frame: &str| {
+        let o = cellsurf(&[
+            "ripple",
+            "--size",
+            "48x24",
+            "--layers",
+            "10",
+            "--steps",
+            "600",
+            "--seed",
+            "2",
+            "--json",
+            "--current-angle",
+            angle,
+            "--frame",
+            frame,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let a0 = run("0", "flow");
+    let a35 = run("35", "flow");
+    assert_eq!(a35["x_axis_direction_deg"], 35.0);
+    assert_eq!(a35["parameters"]["frame"], "flow");
+    assert_eq!(a0["wavelength_m"], a35["wavelength_m"]);
+    assert_eq!(a0["height_m"], a35["height_m"]);
+    let n0 = a0["crest_normal_deg"].as_f64().unwrap();
+    let n35 = a35["crest_normal_deg"].as_f64().unwrap();
+    let d = (n35 - n0 - 35.0).rem_euclid(180.0);
+    assert!(d.min(180.0 - d) < 1e-9, "{n0} {n35}");
+    // the grid frame (default) runs another bed at 35 deg, its x axis east
+    let g35 = run("35", "grid");
+    assert_eq!(g35["x_axis_direction_deg"], 0.0);
+    assert!(g35["parameters"].get("frame").is_none());
+    assert_ne!(g35["height_m"], a35["height_m"]);
+    let o = cellsurf(&[
+        "ripple", "--mode", "2d", "--size", "40x1", "--frame", "flow", "--steps", "10",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("--frame") && err.contains("2-D"), "{err}");
+}

@@ -113,6 +113,12 @@ pub struct Args {
     /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
     wave_angle: Option<f64>,
+    /// Orientation of the lattice: grid (x east; an oblique flow crosses the lattice, whose axes
+    /// and diagonals pull the crests towards them) or flow (x along the flow: the current, or
+    /// the waves without current; the volume is written in that frame, its x axis at
+    /// `x_axis_direction_deg` from east) [default: grid].
+    #[arg(long)]
+    frame: Option<cellsurf::ripple::Frame>,
     /// Avalanche angle alpha, degrees [default: 32].
     #[arg(long)]
     avalanche_angle: Option<f64>,
@@ -199,6 +205,7 @@ fn params(a: &Args) -> Result<RippleParams> {
         current_angle,
         current_speed,
         wave_amplitude,
+        frame,
         avalanche_angle,
         stoss_angle,
         creep_angle,
@@ -375,10 +382,11 @@ pub fn run(a: Args) -> Result<()> {
         (None, None) => 0.0,
     };
     let predicted = Prediction::of(p.d50, p.current_speed, p.wave_amplitude, wave_period_s);
+    // the flow's direction on the lattice (0 in the flow frame)
     let flow_angle = if p.wave_amplitude > p.current_speed {
-        p.wave_angle.unwrap_or(p.current_angle)
+        p.lattice_wave_angle().unwrap_or(p.lattice_current_angle())
     } else {
-        p.current_angle
+        p.lattice_current_angle()
     };
     let along = length_along(
         p.nx as f64 * p.bin_size,
@@ -482,6 +490,7 @@ pub fn run(a: Args) -> Result<()> {
             "predicted_height_m": predicted.height,
             "predictor": predicted.source,
             "domain_length_along_flow_m": along,
+            "x_axis_direction_deg": p.frame_angle(),
         });
         let mut own = serde_json::json!({
             "regime": reg.regime.name(),

@@ -57,8 +57,11 @@ pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
     if !has_wave(p) {
         return vec![p.current_speed.abs()];
     }
-    let c = p.current_angle.to_radians();
-    let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
+    let c = p.lattice_current_angle().to_radians();
+    let w = p
+        .lattice_wave_angle()
+        .unwrap_or(p.lattice_current_angle())
+        .to_radians();
     (0..64)
         .map(|k| {
             let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0).sin();

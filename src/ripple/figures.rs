@@ -465,19 +465,36 @@ fn study_configs() -> Result<Vec<StudyConfig>, String> {
         ny,
         ..base.clone()
     };
-    let bin = |bin_size, layer_thickness| RippleParams {
-        bin_size,
-        layer_thickness,
-        ..base.clone()
+    // Bin sizes at fixed physics: the same domain in metres and the same simulated time (the
+    // steps from each bin size's step duration).
+    let seconds = super::clock::StepClock::of(&base)
+        .map_err(|e| e.to_string())?
+        .step_s
+        * base.steps as f64;
+    let bin = |bin_size: f64| -> Result<(RippleParams, Vec<u64>), String> {
+        let f = base.bin_size / bin_size;
+        let p = RippleParams {
+            bin_size,
+            layer_thickness: bin_size / 10.0,
+            nx: (base.nx as f64 * f).round() as usize,
+            ny: (base.ny as f64 * f).round() as usize,
+            ..base.clone()
+        };
+        let steps = super::clock::StepClock::of(&p)
+            .and_then(|c| c.steps_for(seconds))
+            .map_err(|e| e.to_string())?;
+        Ok((RippleParams { steps, ..p }, vec![steps]))
     };
     let end = vec![base.steps];
+    let (fine, fine_end) = bin(0.0025)?;
+    let (coarse, coarse_end) = bin(0.01)?;
     Ok(vec![
         ("steps", base.clone(), vec![1250, 2500, 5000, 10000]),
         ("grid 32x16", grid(32, 16), end.clone()),
         ("grid 48x24", grid(48, 24), end.clone()),
-        ("grid 96x48", grid(96, 48), end.clone()),
-        ("bin 2.5 mm", bin(0.0025, 0.00025), end.clone()),
-        ("bin 10 mm", bin(0.01, 0.001), end),
+        ("grid 96x48", grid(96, 48), end),
+        ("bin 2.5 mm", fine, fine_end),
+        ("bin 10 mm", coarse, coarse_end),
     ])
 }
 
@@ -544,7 +561,7 @@ fn draw_error(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, Figur
             vec![pts[1][0], pts[2][0], at_base, pts[3][0]],
         ),
         (
-            "bin 2.5, 5, 10 mm (64 x 32, gd = bin / 10)".into(),
+            "bin 2.5, 5, 10 mm (32 x 16 cm, same simulated time)".into(),
             vec![pts[4][0], at_base, pts[5][0]],
         ),
     ];
@@ -886,7 +903,19 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             })
         })
         .collect();
-    let mut an = model_series("model", &angles, &crest).to_vec();
+    let mut an = model_series("grid frame", &angles, &crest).to_vec();
+    // In the flow frame the lattice turns with the current: the bed at any angle is the grid
+    // frame's bed at 0 deg, turned (the same run), so its crest normal is the angle plus the
+    // 0 deg runs' offset.
+    let zero = crest[0];
+    an.extend(model_series(
+        "flow frame (--frame flow)",
+        &angles,
+        &angles
+            .iter()
+            .map(|a| (a + zero.0, zero.1))
+            .collect::<Vec<_>>(),
+    ));
     an.push(Series {
         label: "crest normal = current angle".into(),
         x: vec![0.0, 180.0],

@@ -72,7 +72,7 @@ pub use compaction::Compaction;
 pub use grain::GrainClasses;
 pub use model::{Ripple, RippleStats};
 pub use output::{Field, Format, OutputSpec};
-pub use params::{Abstraction, AcousticModel, Mode, RippleParams};
+pub use params::{Abstraction, AcousticModel, Frame, Mode, RippleParams};
 pub use spectrum::Analysis;
 pub use volume::{Automaton, SandVolume};
 pub use water::{Flow, WaterVolume};

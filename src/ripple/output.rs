@@ -404,6 +404,10 @@ pub fn write_netcdf(
         .map_err(|x| out_err(path, x))?;
     ds.add_global_attr_f64("automata", vec![r.automata() as f64])
         .map_err(|x| out_err(path, x))?;
+    // The direction of the x axis (degrees counter-clockwise from east): 0 unless the lattice
+    // runs in the flow's frame.
+    ds.add_global_attr_f64("x_axis_direction_deg", vec![p.frame_angle()])
+        .map_err(|x| out_err(path, x))?;
 
     crate::engine::io::check_output("output", path).map_err(|x| io_err(path, x))?;
     let tmp = crate::engine::io::TempFile::new(path);

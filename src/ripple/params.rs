@@ -33,6 +33,24 @@ pub enum Abstraction {
     Shadow,
 }
 
+/// The orientation of the lattice ([`RippleParams::frame`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Frame {
+    /// The lattice's x axis points east (0 deg); the flow crosses it at `current_angle`.
+    #[default]
+    Grid,
+    /// The lattice's x axis points along the flow ([`RippleParams::frame_angle`]).
+    Flow,
+}
+
+impl Frame {
+    /// Whether this is the default grid frame (left out of scenario and output files).
+    pub fn is_grid(&self) -> bool {
+        *self == Frame::Grid
+    }
+}
+
 /// How bulk density and sound speed are obtained ([`super::acoustics`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AcousticModel {
@@ -79,6 +97,7 @@ macro_rules! named_enum {
 named_enum!(Mode, "mode", "2d or 3d", "2d" => Mode::TwoD, "3d" => Mode::ThreeD);
 named_enum!(Abstraction, "abstraction", "slices or shadow",
     "slices" => Abstraction::Slices, "shadow" => Abstraction::Shadow);
+named_enum!(Frame, "frame", "grid or flow", "grid" => Frame::Grid, "flow" => Frame::Flow);
 named_enum!(AcousticModel, "acoustics", "hamilton or apl-uw",
     "hamilton" => AcousticModel::Hamilton, "apl-uw" => AcousticModel::AplUw);
 
@@ -131,6 +150,14 @@ pub struct RippleParams {
     /// `current_angle`; -360..=360. 3-D only. Default absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wave_angle: Option<f64>,
+    /// Orientation of the lattice (3-D only): `grid`, its x axis east and the flow at
+    /// `current_angle` across it, or `flow`, its x axis along the flow (the current's
+    /// direction, or the waves' when there is no current: [`RippleParams::frame_angle`]), so
+    /// that the lattice does not pull the crests towards its axes and diagonals. The volume is
+    /// written in the lattice's frame, its x axis at `frame_angle` degrees from east (recorded
+    /// in every output). Default `grid`.
+    #[serde(skip_serializing_if = "Frame::is_grid")]
+    pub frame: Frame,
     /// Avalanche angle alpha (Eq. 6), degrees, in (0, 90). Default 32.
     pub avalanche_angle: f64,
     /// Stoss stability angle beta (Eq. 3), degrees, in [0, avalanche_angle]. Default 7.
@@ -189,6 +216,7 @@ impl Default for RippleParams {
             wave_period: 0.0,
             wave_amplitude: 0.0,
             wave_angle: None,
+            frame: Frame::Grid,
             avalanche_angle: 32.0,
             stoss_angle: 7.0,
             creep_angle: 5.0,
@@ -251,6 +279,29 @@ impl RippleParams {
     /// The parameters as a TOML scene.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
+    }
+
+    /// The direction of the lattice's x axis, degrees counter-clockwise from east: 0 in the
+    /// grid frame (and in 2-D); in the flow frame the current's angle, or the waves' when there
+    /// is no current.
+    pub fn frame_angle(&self) -> f64 {
+        if self.frame == Frame::Grid || self.mode == Mode::TwoD {
+            0.0
+        } else if self.current_speed > 0.0 || self.wave_amplitude == 0.0 {
+            self.current_angle
+        } else {
+            self.wave_angle.unwrap_or(self.current_angle)
+        }
+    }
+
+    /// The current's direction on the lattice, degrees (`current_angle - frame_angle`).
+    pub fn lattice_current_angle(&self) -> f64 {
+        self.current_angle - self.frame_angle()
+    }
+
+    /// The waves' direction on the lattice, degrees, when they have their own.
+    pub fn lattice_wave_angle(&self) -> Option<f64> {
+        self.wave_angle.map(|w| w - self.frame_angle())
     }
 
     /// Rows actually simulated: 1 in 2-D, `ny` in 3-D.
@@ -374,6 +425,13 @@ impl RippleParams {
                 ));
             }
         }
+        if self.frame == Frame::Flow && self.mode == Mode::TwoD {
+            return Err(range(
+                "frame",
+                "flow",
+                "grid in 2-D mode (the section already runs along the current)",
+            ));
+        }
         check_f(
             "avalanche_angle",
             self.avalanche_angle,
@@ -433,5 +491,48 @@ impl RippleParams {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_angle_follows_the_dominant_flow() {
+        let p = RippleParams {
+            current_angle: 30.0,
+            wave_angle: Some(80.0),
+            ..RippleParams::default()
+        };
+        // grid frame: the lattice's x axis east, the flow across it
+        assert_eq!(p.frame_angle(), 0.0);
+        assert_eq!(p.lattice_current_angle(), 30.0);
+        // flow frame: along the current, the waves at their angle to it
+        let f = RippleParams {
+            frame: Frame::Flow,
+            ..p.clone()
+        };
+        assert_eq!(f.frame_angle(), 30.0);
+        assert_eq!(f.lattice_current_angle(), 0.0);
+        assert_eq!(f.lattice_wave_angle(), Some(50.0));
+        // no current: along the waves
+        let w = RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 100.0,
+            ..f.clone()
+        };
+        assert_eq!(w.frame_angle(), 80.0);
+        assert_eq!(w.lattice_wave_angle(), Some(0.0));
+        // 2-D: no frame but the grid's
+        let e = RippleParams {
+            mode: Mode::TwoD,
+            ny: 1,
+            current_angle: 0.0,
+            wave_angle: None,
+            ..f
+        };
+        assert!(e.validate().unwrap_err().to_string().contains("frame"));
     }
 }

@@ -28,7 +28,8 @@ use super::morphometry::faces;
 pub struct Analysis {
     /// Dominant wavelength, m.
     pub wavelength_m: f64,
-    /// Direction of the dominant wave vector, degrees in [0, 180).
+    /// Direction of the dominant wave vector, degrees counter-clockwise from east in [0, 180)
+    /// (measured on the lattice, plus [`RippleParams::frame_angle`](super::RippleParams::frame_angle)).
     pub crest_normal_deg: f64,
     /// Ripple height, m.
     pub height_m: f64,
@@ -159,13 +160,15 @@ impl Analysis {
         let p = r.params();
         let dx = p.bin_size;
         let elev = r.elevation();
-        let (wavelength_m, crest_normal_deg) = dominant_wave(&elev, nx, ny, dx);
+        let (wavelength_m, lattice_normal) = dominant_wave(&elev, nx, ny, dx);
+        // from the lattice's frame to east-based degrees
+        let crest_normal_deg = (lattice_normal + p.frame_angle()).rem_euclid(180.0);
         let smooth = moore_average(r, &elev);
         let (mean, sd) = mean_std(&smooth);
         let theta = if ny == 1 {
             0.0
         } else {
-            p.current_angle.to_radians()
+            p.lattice_current_angle().to_radians()
         };
         let f = faces(&elev, nx, ny, dx, p.layer_thickness, theta);
         let vol = r.volume();

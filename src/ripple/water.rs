@@ -3,7 +3,7 @@
 //! the bed.
 //!
 //! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
-//! `current_angle`: a steady current `U_c` plus an oscillating (wave) component of amplitude
+//! `current_angle` (on the lattice: less the frame's angle, [`RippleParams::frame_angle`]): a steady current `U_c` plus an oscillating (wave) component of amplitude
 //! `U_w` and period `T` steps; with a `wave_angle` of their own, the vector sum
 //! `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs the other way (angle + 180 deg),
 //! so a pure wave (`U_c = 0`) pushes equally both ways and gives symmetric ripples.
@@ -65,9 +65,9 @@ impl Flow {
                 PI
             }
         } else {
-            p.current_angle.to_radians()
+            p.lattice_current_angle().to_radians()
         };
-        let (v, angle) = match p.wave_angle.filter(|_| !two_d) {
+        let (v, angle) = match p.lattice_wave_angle().filter(|_| !two_d) {
             // waves at their own angle: the vector sum of current and wave
             Some(wa) => {
                 let wa = wa.to_radians();
