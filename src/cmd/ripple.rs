@@ -104,10 +104,15 @@ pub struct Args {
     /// Surface wave height H (crest to trough), m: the near-bed orbital velocity then follows
     /// from linear wave theory with --wave-period and --water-depth (instead of
     /// --wave-velocity); refused above 0.78 x depth or 1/7 of the wavelength (breaking).
-    #[arg(long, value_name = "M", conflicts_with = "wave_amplitude", requires_all = ["wave_period", "water_depth"])]
+    #[arg(
+        long,
+        value_name = "M",
+        conflicts_with = "wave_amplitude",
+        allow_hyphen_values = true
+    )]
     wave_height: Option<f64>,
     /// Water depth h, m, for --wave-height.
-    #[arg(long, value_name = "M", requires = "wave_height")]
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
     water_depth: Option<f64>,
     /// Direction the waves propagate towards, degrees counter-clockwise from +x, -360 to 360;
     /// 3-D only [default: the current's direction].
@@ -219,8 +224,30 @@ fn params(a: &Args) -> Result<RippleParams> {
         // seconds; a provisional period in steps until the step duration is known
         p.wave_period = 64.0;
     }
-    if let (Some(h), Some(t), Some(d)) = (a.wave_height, a.wave_period, a.water_depth) {
-        p.wave_amplitude = SurfaceWave::new(h, t, d)?.orbital_velocity();
+    match (a.wave_height, a.wave_period, a.water_depth) {
+        (Some(h), Some(t), Some(d)) => {
+            p.wave_amplitude = SurfaceWave::new(h, t, d)?.orbital_velocity();
+        }
+        (None, _, None) => {}
+        (h, _, d) => bail!(
+            "{} = {} needs {}: surface waves are given by their height, period and the water depth (linear wave theory)",
+            if h.is_some() {
+                "--wave-height"
+            } else {
+                "--water-depth"
+            },
+            h.or(d).unwrap_or(f64::NAN),
+            [
+                ("--wave-height", h.is_some()),
+                ("--wave-period", a.wave_period.is_some()),
+                ("--water-depth", d.is_some())
+            ]
+            .iter()
+            .filter(|(_, given)| !given)
+            .map(|(f, _)| *f)
+            .collect::<Vec<_>>()
+            .join(" and ")
+        ),
     }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {

@@ -202,6 +202,10 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         .collect();
     let (lo, hi) = finite_range(&all);
     let labels = ["t0", "t10", "t25", "t100"];
+    // physical time of each snapshot: the step duration of the Meyer-Peter & Mueller bedload
+    let step_s = super::clock::StepClock::of(run.last.params())
+        .map_err(model_err)?
+        .step_s;
     let panels = run
         .snaps
         .iter()
@@ -209,7 +213,7 @@ fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         .map(|((t, e), l)| {
             let v: Vec<f64> = e.iter().map(|&x| x as f64).collect();
             Panel {
-                title: format!("{l} (step {t})"),
+                title: format!("{l} (step {t}, {:.0} s of flow)", *t as f64 * step_s),
                 field: field(nx, ny, states_over(&v, lo, hi)),
             }
         })
