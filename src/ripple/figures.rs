@@ -755,7 +755,7 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
 /// grain sizes, wave ripples for three orbital diameters and the crest normal for current
-/// angles 0-180 deg, 3 seeds each, [`VALIDATION_SECONDS`] of flow per run (`cellsurf converge
+/// angles 0-180 deg, 3 seeds each, 300 s of flow per run (`cellsurf converge
 /// ripple_validation`, in parts with `--part i/N`).
 pub struct ValidationStudy;
 
