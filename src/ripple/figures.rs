@@ -653,31 +653,48 @@ fn validation_angles() -> Vec<f64> {
     (0..=12).map(|i| 15.0 * i as f64).collect()
 }
 
-/// Simulated seconds of every validation run.
-const VALIDATION_SECONDS: f64 = 300.0;
+/// Simulated seconds of the validation runs: the current ripples at both, the angles at the
+/// first, the waves at the second.
+const VALIDATION_SECONDS: [f64; 2] = [300.0, 1800.0];
 
 /// One case of the validation study: current ripples of a grain size, wave ripples of an
 /// orbital diameter, or a current angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum ValidationCase {
-    Current(f64),
+    /// d50 (mm), seconds of flow.
+    Current(f64, f64),
+    /// d0 (m).
     Wave(f64),
+    /// Current angle (deg).
     Angle(f64),
 }
 
 impl ValidationCase {
     fn all() -> Vec<ValidationCase> {
-        VALIDATION_D50_MM
+        VALIDATION_SECONDS
             .iter()
-            .map(|&d| ValidationCase::Current(d))
+            .flat_map(|&t| {
+                VALIDATION_D50_MM
+                    .iter()
+                    .map(move |&d| ValidationCase::Current(d, t))
+            })
             .chain(VALIDATION_D0_M.iter().map(|&d| ValidationCase::Wave(d)))
             .chain(validation_angles().into_iter().map(ValidationCase::Angle))
             .collect()
     }
 
+    /// Its seconds of flow.
+    fn seconds(self) -> f64 {
+        match self {
+            ValidationCase::Current(_, t) => t,
+            ValidationCase::Wave(_) => VALIDATION_SECONDS[1],
+            ValidationCase::Angle(_) => VALIDATION_SECONDS[0],
+        }
+    }
+
     fn name(self) -> String {
         match self {
-            ValidationCase::Current(d) => format!("current d50 {d} mm"),
+            ValidationCase::Current(d, t) => format!("current d50 {d} mm {t} s"),
             ValidationCase::Wave(d) => format!("wave d0 {d} m"),
             ValidationCase::Angle(a) => format!("current angle {a} deg"),
         }
@@ -693,7 +710,7 @@ impl ValidationCase {
             ..scene().map_err(|e| e.to_string())?
         };
         Ok(match self {
-            ValidationCase::Current(d50) => RippleParams {
+            ValidationCase::Current(d50, _) => RippleParams {
                 nx: 192,
                 ny: 48,
                 d50,
@@ -729,13 +746,11 @@ struct ValidationRecord {
     steps: u64,
 }
 
-/// Runs `case` for [`VALIDATION_SECONDS`] of flow with `seed`.
+/// Runs `case` with `seed` for its seconds of flow ([`VALIDATION_SECONDS`]).
 fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, String> {
     let mut p = case.params(seed)?;
     let clock = super::clock::StepClock::of(&p).map_err(|e| e.to_string())?;
-    p.steps = clock
-        .steps_for(VALIDATION_SECONDS)
-        .map_err(|e| e.to_string())?;
+    p.steps = clock.steps_for(case.seconds()).map_err(|e| e.to_string())?;
     if let ValidationCase::Wave(d0) = case {
         let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
         p.wave_period = period_s / clock.step_s;
@@ -754,9 +769,9 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 }
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
-/// grain sizes, wave ripples for three orbital diameters and the crest normal for current
-/// angles 0-180 deg, 3 seeds each, 300 s of flow per run (`cellsurf converge
-/// ripple_validation`, in parts with `--part i/N`).
+/// grain sizes after 300 s and 1800 s of flow, wave ripples for three orbital diameters after
+/// 1800 s and the crest normal for current angles 0-180 deg after 300 s, 3 seeds each
+/// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).
 pub struct ValidationStudy;
 
 impl crate::engine::study::Study for ValidationStudy {
@@ -860,22 +875,38 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         .iter()
         .map(|&d| super::predictors::soulsby_whitehouse(d * 1e-3))
         .collect();
-    let cur = |f: &dyn Fn(&ValidationRecord) -> f64| -> Vec<(f64, f64)> {
+    let cur = |t: f64, f: &dyn Fn(&ValidationRecord) -> f64| -> Vec<(f64, f64)> {
         d50.iter()
             .map(|&d| {
-                let (m, se) = stat(ValidationCase::Current(d), f);
+                let (m, se) = stat(ValidationCase::Current(d, t), f);
                 (100.0 * m, 100.0 * se)
             })
             .collect()
     };
-    let mut wl = model_series("model", &d50, &cur(&|r| r.wavelength_m)).to_vec();
+    let [t1, t2] = VALIDATION_SECONDS;
+    let mut wl = model_series(
+        &format!("model, {t1} s"),
+        &d50,
+        &cur(t1, &|r| r.wavelength_m),
+    )
+    .to_vec();
+    wl.extend(model_series(
+        &format!("model, {t2} s"),
+        &d50,
+        &cur(t2, &|r| r.wavelength_m),
+    ));
     wl.push(Series {
         label: "Soulsby & Whitehouse (2005)".into(),
         x: curve_d50.clone(),
         y: sw.iter().map(|p| 100.0 * p.0).collect(),
         points: false,
     });
-    let mut ht = model_series("model", &d50, &cur(&|r| r.height_m)).to_vec();
+    let mut ht = model_series(&format!("model, {t1} s"), &d50, &cur(t1, &|r| r.height_m)).to_vec();
+    ht.extend(model_series(
+        &format!("model, {t2} s"),
+        &d50,
+        &cur(t2, &|r| r.height_m),
+    ));
     ht.push(Series {
         label: "Soulsby & Whitehouse (2005)".into(),
         x: curve_d50,
@@ -939,7 +970,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         v.extend(model_series("symmetry index", xv, &si));
         v
     };
-    let mut cur_shape = shape(&ValidationCase::Current, &d50, &d50);
+    let mut cur_shape = shape(&|d| ValidationCase::Current(d, t2), &d50, &d50);
     cur_shape.push(Series {
         label: "Soulsby & Whitehouse (2005): ripple index".into(),
         x: d50.clone(),
@@ -977,10 +1008,9 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         y: vec![1.0, 1.0],
         points: false,
     });
-    let seconds = VALIDATION_SECONDS;
     let charts = vec![
         Chart {
-            title: format!("current ripples (0.5 m/s, 96 x 24 cm, {seconds} s): wavelength"),
+            title: "current ripples (0.5 m/s, 96 x 24 cm): wavelength".into(),
             x_label: "d50 (mm)".into(),
             y_label: "wavelength (cm)".into(),
             series: wl,
@@ -988,7 +1018,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: format!("current ripples (0.5 m/s, 96 x 24 cm, {seconds} s): height"),
+            title: "current ripples (0.5 m/s, 96 x 24 cm): height".into(),
             x_label: "d50 (mm)".into(),
             y_label: "height (cm)".into(),
             series: ht,
@@ -996,9 +1026,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: format!(
-                "wave ripples (0.3 mm, U_w = {VALIDATION_UW} m/s, 96 x 24 cm, {seconds} s)"
-            ),
+            title: format!("wave ripples (0.3 mm, U_w = {VALIDATION_UW} m/s, 96 x 24 cm, {t2} s)"),
             x_label: "orbital diameter d0 (cm)".into(),
             y_label: "wavelength (cm)".into(),
             series: wv,
@@ -1006,7 +1034,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: format!("crest normal against current angle (64 x 64 cm, {seconds} s)"),
+            title: format!("crest normal against current angle (64 x 64 cm, {t1} s)"),
             x_label: "current angle (deg)".into(),
             y_label: "crest normal (deg)".into(),
             series: an,
@@ -1014,7 +1042,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: "current ripples: ripple index and symmetry index".into(),
+            title: format!("current ripples ({t2} s): ripple index and symmetry index"),
             x_label: "d50 (mm)".into(),
             y_label: "ripple index, symmetry index".into(),
             series: cur_shape,
@@ -1022,7 +1050,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: true,
         },
         Chart {
-            title: "wave ripples: ripple index and symmetry index".into(),
+            title: format!("wave ripples ({t2} s): ripple index and symmetry index"),
             x_label: "orbital diameter d0 (cm)".into(),
             y_label: "ripple index, symmetry index".into(),
             series: wave_shape,
