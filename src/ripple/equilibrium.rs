@@ -4,7 +4,10 @@
 //! ([`mature`]), or at a cap.
 //!
 //! The checkpoints are [`FIRST_CHECK`] steps and its doublings: a field is judged between `t`
-//! and `2 t` for `t >= FIRST_CHECK`.
+//! and `2 t` for `t >= FIRST_CHECK`. Only a field that has grown counts: its height must be at
+//! least [`GROWN`] times the initial bed's (a bed that stays at its initial roughness has not
+//! formed ripples yet, and coarse sand may need far longer to start), so a bed that never
+//! forms ripples runs to the cap.
 
 use super::model::Ripple;
 use super::output::run_recording;
@@ -16,13 +19,19 @@ pub const TOLERANCE: f64 = 0.10;
 /// The first checkpoint, steps.
 pub const FIRST_CHECK: u64 = 1000;
 
+/// How many times the initial bed's height a field must reach to count as formed.
+pub const GROWN: f64 = 2.0;
+
 /// Whether the field went from `before` (at `t`) to `after` (at `2 t`) changing its wavelength
-/// and its height by less than [`TOLERANCE`] of their values at `t` (false when either is not
-/// finite or not positive: no ripples measured).
-pub fn mature(before: &Analysis, after: &Analysis) -> bool {
+/// and its height by less than [`TOLERANCE`] of their values at `t`, with a height at least
+/// [`GROWN`] times `initial_height` (the bed's at step 0). False when either is not finite or
+/// not positive: no ripples measured.
+pub fn mature(initial_height: f64, before: &Analysis, after: &Analysis) -> bool {
     let close =
         |a: f64, b: f64| a.is_finite() && b.is_finite() && a > 0.0 && (b - a).abs() < TOLERANCE * a;
-    close(before.wavelength_m, after.wavelength_m) && close(before.height_m, after.height_m)
+    close(before.wavelength_m, after.wavelength_m)
+        && close(before.height_m, after.height_m)
+        && after.height_m >= GROWN * initial_height
 }
 
 /// What [`run_until_mature`] did.
@@ -51,6 +60,7 @@ pub fn run_until_mature(
     let mut next = FIRST_CHECK.min(cap);
     let mut last: Option<Analysis> = None;
     let mut mature_at = None;
+    let initial_height = Analysis::of(r).height_m;
     while done < cap {
         let n = next - done;
         let rel: Vec<u64> = times
@@ -67,7 +77,7 @@ pub fn run_until_mature(
         checkpoints.push((done, a.wavelength_m, a.height_m));
         if let Some(b) = &last
             && done >= 2 * FIRST_CHECK
-            && mature(b, &a)
+            && mature(initial_height, b, &a)
         {
             mature_at = Some(done);
             break;
@@ -107,26 +117,31 @@ mod tests {
 
     #[test]
     fn mature_when_both_change_by_under_ten_percent() {
-        assert!(mature(&field(0.10, 0.010), &field(0.109, 0.0091)));
+        let h0 = 0.002;
+        assert!(mature(h0, &field(0.10, 0.010), &field(0.109, 0.0091)));
         assert!(
-            !mature(&field(0.10, 0.010), &field(0.111, 0.010)),
+            !mature(h0, &field(0.10, 0.010), &field(0.111, 0.010)),
             "wavelength grew 11 %"
         );
         assert!(
-            !mature(&field(0.10, 0.010), &field(0.10, 0.0115)),
+            !mature(h0, &field(0.10, 0.010), &field(0.10, 0.0115)),
             "height grew 15 %"
         );
         assert!(
-            !mature(&field(0.10, 0.010), &field(0.10, 0.0085)),
+            !mature(h0, &field(0.10, 0.010), &field(0.10, 0.0085)),
             "height fell 15 %"
         );
         assert!(
-            !mature(&field(f64::NAN, 0.010), &field(0.10, 0.010)),
+            !mature(h0, &field(f64::NAN, 0.010), &field(0.10, 0.010)),
             "no ripples measured"
         );
         assert!(
-            !mature(&field(0.0, 0.0), &field(0.0, 0.0)),
+            !mature(h0, &field(0.0, 0.0), &field(0.0, 0.0)),
             "a flat bed is not mature"
+        );
+        assert!(
+            !mature(h0, &field(0.06, 0.0025), &field(0.06, 0.0025)),
+            "a bed still at its initial roughness has formed no ripples"
         );
     }
 
