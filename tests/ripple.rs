@@ -795,3 +795,17 @@ fn creep_switched_off_changes_the_symmetry_index() {
     eprintln!("creep on {on:?} off {off:?}");
     assert!(beyond_noise(on, off), "on {on:?} off {off:?}");
 }
+
+/// The slice drag acts: it is what brings the water behind a crest back up to speed (Sect.
+/// 2.3); without its delay (`drag_delay = 0`, the speed recovers at once behind the zero zone)
+/// the shelter behind the crests is shorter and the ripples lower, beyond the seed noise.
+#[test]
+fn slice_drag_switched_off_lowers_the_ripples() {
+    let on = mean_se_of_seeds(|_| {}, |a| a.height_m);
+    let off = mean_se_of_seeds(|p| p.drag_delay = 0, |a| a.height_m);
+    eprintln!("drag on {on:?} off {off:?}");
+    assert!(
+        off.0 < on.0 && beyond_noise(on, off),
+        "on {on:?} off {off:?}"
+    );
+}

@@ -182,10 +182,10 @@ pub struct RippleParams {
     /// Water slices: length behind an obstruction where a slice's speed is zero, bins per slice
     /// the obstruction rises above the slice. Default 1.
     pub shadow_length: usize,
-    /// Water slices: length over which a slice's speed recovers after the shadow, bins per
-    /// slice the obstruction rises above the slice. Default 1.
-    pub recovery_length: usize,
-    /// Water slices: delay in space with which a slice drags the one below, bins. Default 1.
+    /// Water slices: the drag, the delay in space (bins) with which a slice drags the one below
+    /// it back up to speed behind an obstruction (Sect. 2.3): after its zero-speed zone a
+    /// slice's speed recovers linearly over `drag_delay` bins per slice the obstruction rises
+    /// above it; 0 recovers at once. 0..=64. Default 1.
     pub drag_delay: usize,
     /// Compaction: fraction of the excess porosity (above the dense packing) removed from each
     /// of the `compaction_depth` automata under a newly deposited one, in [0, 1]. Default 0.1.
@@ -227,7 +227,6 @@ impl Default for RippleParams {
             drag_coefficient: 0.0025,
             slice_layers: 2,
             shadow_length: 1,
-            recovery_length: 1,
             drag_delay: 1,
             compaction_rate: 0.1,
             compaction_depth: 4,
@@ -468,7 +467,6 @@ impl RippleParams {
         }
         for (name, v) in [
             ("shadow_length", self.shadow_length),
-            ("recovery_length", self.recovery_length),
             ("drag_delay", self.drag_delay),
         ] {
             if v > 64 {

@@ -14,10 +14,15 @@
 //! obstruction rising `e` slices above it (e = ceil((H - z_j) / slice_layers)), the slice's
 //! speed is zero over `shadow_length x e` bins and then recovers linearly over
 //! `recovery_length x e` bins ("depending on the height of the crest ... the water flow will
-//! pick up speed again closer or further behind the crest"). Each slice drags the one below
-//! with a delay of `drag_delay` bins: the speed of slice `j` at x is at most that of slice
-//! `j + 1` at `x - drag_delay` (upstream). The bed speed of a column is the speed of the lowest
-//! slice at or above its surface; zero means the column is in the current shadow.
+//! pick up speed again closer or further behind the crest"). The paper's drag ("every
+//! hydrodynamic slice drags the underlying slice with a predefined delay in the space domain")
+//! is that recovery: the run's `drag_delay` is the recovery length per slice
+//! ([`WaterVolume::new`]; 0, no delay, recovers at once). [`WaterVolume`] can also limit a
+//! slice's speed to that of the slice above it `drag_delay` bins upstream (its own
+//! `drag_delay`), which never binds while that delay is at most `shadow_length` (the slice
+//! above is the faster one behind a crest); the ripple runs leave it at 0. The bed speed of a
+//! column is the speed of the lowest slice at or above its surface; zero means the column is
+//! in the current shadow.
 //!
 //! The water volume is a deterministic function of the bed, so it is evaluated lazily, for the
 //! column being asked about, from the bed as it is at that moment (looking upstream along the
@@ -128,9 +133,10 @@ pub struct WaterVolume {
     pub slice_layers: usize,
     /// Zero-speed length per slice of obstruction, bins.
     pub shadow_length: usize,
-    /// Recovery length per slice of obstruction, bins.
+    /// Recovery length per slice of obstruction, bins (the run's `drag_delay`).
     pub recovery_length: usize,
-    /// Drag delay between a slice and the one below, bins.
+    /// An extra limit: a slice no faster than the one above it this many bins upstream (0 in
+    /// the ripple runs; module docs).
     pub drag_delay: usize,
 }
 
@@ -140,8 +146,9 @@ impl WaterVolume {
         WaterVolume {
             slice_layers: p.slice_layers,
             shadow_length: p.shadow_length,
-            recovery_length: p.recovery_length,
-            drag_delay: p.drag_delay,
+            // the drag between slices is what brings a slice back up to speed (Sect. 2.3)
+            recovery_length: p.drag_delay,
+            drag_delay: 0,
         }
     }
 
