@@ -516,6 +516,7 @@ pub fn run(a: Args) -> Result<()> {
             "predicted_wavelength_m": predicted.wavelength,
             "predicted_height_m": predicted.height,
             "predictor": predicted.source,
+            "predicted_crest_normal_deg": cellsurf::ripple::predictors::rubin_hunter_crest_normal(&p),
             "domain_length_along_flow_m": along,
             "x_axis_direction_deg": p.frame_angle(),
         });

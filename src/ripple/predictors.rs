@@ -13,8 +13,16 @@
 //!
 //! [`Prediction::of`] picks the predictor of the dominant flow: waves when their orbital
 //! velocity exceeds the current, the current otherwise.
+//!
+//! - Crest orientation in a flow whose direction varies (a current and waves at an angle):
+//!   D. M. Rubin and R. E. Hunter (1987), "Bedform alignment in directionally varying flows",
+//!   *Science* 237, 276-278, <https://doi.org/10.1126/science.237.4812.276>: crests align so
+//!   that the gross bedform-normal transport is largest ([`rubin_hunter_crest_normal`]).
 
+use super::clock::meyer_peter_mueller;
 use super::grain::d_star;
+use super::params::RippleParams;
+use super::regime::{bed_shear_stress, shields};
 
 /// Eq. of Soulsby & Whitehouse (2005) for equilibrium current ripples, valid for
 /// 1.2 < D* < 16: wavelength `lambda = d50 (500 + 1881 D*^-1.5)` and height
@@ -131,6 +139,43 @@ impl Prediction {
     }
 }
 
+/// Rubin & Hunter (1987): the crest normal (degrees counter-clockwise from east, in [0, 180))
+/// that makes the gross bedform-normal transport `sum_t |q(t) . n|` over a wave cycle
+/// largest, with `q(t)` the Meyer-Peter & Mueller bedload along the flow
+/// `U_c e_c + U_w sin(phi) e_w` (256 phases) of the run `p`; searched in steps of 0.1 deg.
+/// `None` when the flow moves no sand.
+pub fn rubin_hunter_crest_normal(p: &RippleParams) -> Option<f64> {
+    let d = p.d50 * 1e-3;
+    let c = p.current_angle.to_radians();
+    let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
+    let phases = if p.wave_amplitude > 0.0 { 256 } else { 1 };
+    let q: Vec<(f64, f64)> = (0..phases)
+        .map(|k| {
+            let s = if p.wave_amplitude > 0.0 {
+                (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / phases as f64).sin()
+            } else {
+                0.0
+            };
+            let ux = p.current_speed * c.cos() + p.wave_amplitude * s * w.cos();
+            let uy = p.current_speed * c.sin() + p.wave_amplitude * s * w.sin();
+            let u = ux.hypot(uy);
+            let qb = meyer_peter_mueller(shields(bed_shear_stress(u, p.drag_coefficient), d), d);
+            (qb, uy.atan2(ux))
+        })
+        .collect();
+    if q.iter().all(|&(qb, _)| qb <= 0.0) {
+        return None;
+    }
+    let gross = |n: f64| -> f64 { q.iter().map(|&(qb, a)| qb * (a - n).cos().abs()).sum() };
+    (0..1800)
+        .map(|i| (i as f64 * 0.1, gross((i as f64 * 0.1).to_radians())))
+        .fold(None, |best: Option<(f64, f64)>, (a, g)| match best {
+            Some((_, bg)) if bg >= g => best,
+            _ => Some((a, g)),
+        })
+        .map(|(a, _)| a)
+}
+
 /// The length of the torus along direction `angle_deg` (degrees from +x) before a straight
 /// line leaves the `lx` x `ly` m rectangle: `min(lx / |cos|, ly / |sin|)`, m.
 pub fn length_along(lx: f64, ly: f64, angle_deg: f64) -> f64 {
@@ -229,6 +274,42 @@ mod tests {
         assert!((w.wavelength - 0.248).abs() < 1e-12, "{}", w.wavelength);
         // a weaker wave leaves the current's prediction
         assert_eq!(Prediction::of(0.2, 0.5, 0.3, 8.0), c);
+    }
+
+    #[test]
+    fn rubin_hunter_crest_normal_maximises_gross_normal_transport() {
+        // a steady current: crests normal to it
+        let p = RippleParams {
+            current_angle: 30.0,
+            ..RippleParams::default()
+        };
+        assert!((rubin_hunter_crest_normal(&p).unwrap() - 30.0).abs() < 0.05);
+        // pure waves: crests normal to the waves
+        let w = RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 100.0,
+            wave_angle: Some(70.0),
+            ..RippleParams::default()
+        };
+        assert!((rubin_hunter_crest_normal(&w).unwrap() - 70.0).abs() < 0.05);
+        // a current and waves at 60 deg to it: between the two
+        let cw = RippleParams {
+            current_speed: 0.3,
+            wave_amplitude: 0.4,
+            wave_period: 100.0,
+            wave_angle: Some(60.0),
+            d50: 0.3,
+            ..RippleParams::default()
+        };
+        let n = rubin_hunter_crest_normal(&cw).unwrap();
+        assert!(n > 0.0 && n < 60.0, "{n}");
+        // no motion: none
+        let still = RippleParams {
+            current_speed: 0.05,
+            ..RippleParams::default()
+        };
+        assert_eq!(rubin_hunter_crest_normal(&still), None);
     }
 
     #[test]
