@@ -243,6 +243,16 @@ fn range(parameter: &'static str, value: impl fmt::Display, expected: &str) -> R
     }
 }
 
+/// A number as an error message shows it: in scientific notation when very large or very
+/// small (`1e300`, not three hundred digits), as written otherwise.
+pub(crate) fn shown(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && !(1e-6..1e9).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
 fn check_f(
     parameter: &'static str,
     v: f64,
@@ -262,7 +272,7 @@ fn check_f(
             if lo_open { "(" } else { "[" },
             if hi_open { ")" } else { "]" }
         );
-        Err(range(parameter, v, &expected))
+        Err(range(parameter, shown(v), &expected))
     }
 }
 
@@ -495,6 +505,25 @@ impl RippleParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn out_of_range_numbers_are_shown_readably() {
+        assert_eq!(shown(1e300), "1e300");
+        assert_eq!(shown(2.5e-9), "2.5e-9");
+        assert_eq!(shown(0.5), "0.5");
+        assert_eq!(shown(-3.0), "-3");
+        let e = RippleParams {
+            current_speed: 1e300,
+            ..RippleParams::default()
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("current_speed = 1e300 is out of range"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn frame_angle_follows_the_dominant_flow() {

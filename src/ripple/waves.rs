@@ -73,7 +73,7 @@ impl SurfaceWave {
             if !(v.is_finite() && v > 0.0 && v <= hi) {
                 return Err(RippleError::Range {
                     parameter: name,
-                    value: v.to_string(),
+                    value: super::params::shown(v),
                     expected: format!("a number in (0, {hi}]"),
                 });
             }
@@ -88,7 +88,7 @@ impl SurfaceWave {
         if height > BREAKING_DEPTH_RATIO * depth {
             return Err(RippleError::Range {
                 parameter: "wave_height",
-                value: height.to_string(),
+                value: super::params::shown(height),
                 expected: format!(
                     "at most {BREAKING_DEPTH_RATIO} x water_depth = {:.3} m: a higher wave breaks (McCowan 1894) and linear theory does not hold",
                     BREAKING_DEPTH_RATIO * depth
@@ -98,7 +98,7 @@ impl SurfaceWave {
         if height / w.wavelength() > BREAKING_STEEPNESS {
             return Err(RippleError::Range {
                 parameter: "wave_height",
-                value: height.to_string(),
+                value: super::params::shown(height),
                 expected: format!(
                     "at most 1/7 of the wavelength {:.2} m = {:.3} m: a steeper wave breaks (Michell 1893)",
                     w.wavelength(),
