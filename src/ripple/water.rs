@@ -17,12 +17,9 @@
 //! pick up speed again closer or further behind the crest"). The paper's drag ("every
 //! hydrodynamic slice drags the underlying slice with a predefined delay in the space domain")
 //! is that recovery: the run's `drag_delay` is the recovery length per slice
-//! ([`WaterVolume::new`]; 0, no delay, recovers at once). [`WaterVolume`] can also limit a
-//! slice's speed to that of the slice above it `drag_delay` bins upstream (its own
-//! `drag_delay`), which never binds while that delay is at most `shadow_length` (the slice
-//! above is the faster one behind a crest); the ripple runs leave it at 0. The bed speed of a
-//! column is the speed of the lowest slice at or above its surface; zero means the column is
-//! in the current shadow.
+//! ([`WaterVolume::new`]; 0, no delay, recovers at once). The bed speed of a column is the
+//! speed of the lowest slice at or above its surface; zero means the column is in the current
+//! shadow.
 //!
 //! The water volume is a deterministic function of the bed, so it is evaluated lazily, for the
 //! column being asked about, from the bed as it is at that moment (looking upstream along the
@@ -116,16 +113,6 @@ fn ceil_div(a: usize, b: usize) -> usize {
     }
 }
 
-/// `floor(a / b)`, the usual drag delays (1, 2) without a division instruction.
-#[inline(always)]
-fn floor_div(a: usize, b: usize) -> usize {
-    match b {
-        1 => a,
-        2 => a / 2,
-        _ => a / b,
-    }
-}
-
 /// The sliced water volume's rules (Sect. 2.3).
 #[derive(Clone, Copy, Debug)]
 pub struct WaterVolume {
@@ -135,9 +122,6 @@ pub struct WaterVolume {
     pub shadow_length: usize,
     /// Recovery length per slice of obstruction, bins (the run's `drag_delay`).
     pub recovery_length: usize,
-    /// An extra limit: a slice no faster than the one above it this many bins upstream (0 in
-    /// the ripple runs; module docs).
-    pub drag_delay: usize,
 }
 
 impl WaterVolume {
@@ -148,7 +132,6 @@ impl WaterVolume {
             shadow_length: p.shadow_length,
             // the drag between slices is what brings a slice back up to speed (Sect. 2.3)
             recovery_length: p.drag_delay,
-            drag_delay: 0,
         }
     }
 
@@ -199,20 +182,17 @@ impl WaterVolume {
         let t = self.slice_layers;
         let j0 = ceil_div(level, t);
         // Only obstructions up to `hmax_bound` exist, so nothing further upstream than
-        // (shadow + recovery + delay) x (slices between the level and hmax_bound) matters.
+        // (shadow + recovery) x (slices between the level and hmax_bound) matters.
         let e_bound = ceil_div(hmax_bound.saturating_sub(j0 * t), t);
-        let per = self.shadow_length + self.recovery_length + self.drag_delay;
+        let per = self.shadow_length + self.recovery_length;
         // Looking further than once around the torus would only meet the same columns again.
         let reach = (per * e_bound + 1).min(nx + ny);
         let (nxi, nyi) = (nx as i32, ny as i32);
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
         let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
         let mut s: f64 = 1.0;
-        // Each upstream column that rises above the level obstructs the slices above the bed.
-        // Slice m above the bed's (level (j0 + m) t) sees obstruction (k, h) at distance
-        // k - m delay, e0 - m slices high, e0 = ceil((h - j0 t) / t), while m < e0 and
-        // m delay < k. Along m the ramp is a ratio of two linear functions of m, clamped to
-        // [0, 1]: monotone, so its minimum over the slices lies at the first or the last one.
+        // Each upstream column that rises above the level obstructs the bed's slice (level
+        // j0 t) at distance k + 1, e0 = ceil((h - j0 t) / t) slices high.
         for k in 0..reach {
             let (dx, dy) = match flow.upstream.get(k) {
                 Some(&o) => o,
@@ -239,15 +219,8 @@ impl WaterVolume {
                 return 0.0;
             }
             let k = k + 1;
-            let mut last = e0 - 1;
-            if self.drag_delay > 0 {
-                last = last.min(floor_div(k - 1, self.drag_delay));
-            }
-            for m in [0, last] {
-                let (d, e) = (k - m * self.drag_delay, e0 - m);
-                if d <= reach_of(e) {
-                    s = s.min(self.ramp(d, e));
-                }
+            if k <= reach_of(e0) {
+                s = s.min(self.ramp(k, e0));
             }
             if s == 0.0 {
                 return 0.0;
@@ -312,7 +285,6 @@ mod tests {
             slice_layers: 1,
             shadow_length: 1,
             recovery_length: 1,
-            drag_delay: 0,
         };
         let n = 400;
         let mut h = vec![10u16; n];
@@ -340,7 +312,6 @@ mod tests {
             slice_layers: 1,
             shadow_length: 2,
             recovery_length: 2,
-            drag_delay: 1,
         };
         let mut h = vec![10u16; 40];
         h[5] = 12; // a crest two slices high
@@ -358,23 +329,16 @@ mod tests {
         }
     }
 
-    /// The sliced volume by its definition: every slice from the bed's up, each obstruction
-    /// at its shifted distance.
+    /// The bed's slice by its definition: every upstream obstruction at its distance, the
+    /// slowest of their ramps.
     fn speed_by_slices(w: &WaterVolume, h: &[u16], x: usize, level: usize, f: &Flow) -> f64 {
         let t = w.slice_layers;
-        let j0 = ceil_div(level, t);
+        let z = ceil_div(level, t) * t;
         let mut s: f64 = 1.0;
-        for m in 0..64 {
-            let z = (j0 + m) * t;
-            let shift = m * w.drag_delay;
-            for (k, &(dx, _)) in f.upstream.iter().enumerate() {
-                let (k, hk) = (
-                    k + 1,
-                    h[(x as i32 + dx).rem_euclid(h.len() as i32) as usize],
-                );
-                if k > shift && hk as usize > z {
-                    s = s.min(w.ramp(k - shift, (hk as usize - z).div_ceil(t)));
-                }
+        for (k, &(dx, _)) in f.upstream.iter().enumerate() {
+            let hk = h[(x as i32 + dx).rem_euclid(h.len() as i32) as usize] as usize;
+            if hk > z {
+                s = s.min(w.ramp(k + 1, (hk - z).div_ceil(t)));
             }
         }
         s
@@ -390,8 +354,7 @@ mod tests {
             let w = WaterVolume {
                 slice_layers: 1 + case % 3,
                 shadow_length: case % 4,
-                recovery_length: 1 + case % 5,
-                drag_delay: (case / 3) % 4,
+                recovery_length: (case / 3) % 5,
             };
             let nx = 90;
             let h: Vec<u16> = (0..nx).map(|_| rng.random_range(10..30)).collect();
