@@ -6,7 +6,8 @@ mod common;
 
 use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
 use cellsurf::ripple::{
-    Abstraction, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleError, RippleParams,
+    Abstraction, Analysis, Field, Format, Frame, Mode, OutputSpec, Ripple, RippleError,
+    RippleParams,
 };
 
 fn small() -> RippleParams {
@@ -808,4 +809,34 @@ fn slice_drag_switched_off_lowers_the_ripples() {
         off.0 < on.0 && beyond_noise(on, off),
         "on {on:?} off {off:?}"
     );
+}
+
+#[test]
+fn flow_frame_keeps_its_lattice_when_the_current_changes() {
+    let p = RippleParams {
+        nx: 16,
+        ny: 8,
+        layers: 6,
+        current_angle: 30.0,
+        ..RippleParams::default()
+    };
+    // the flow frame's lattice was turned with the starting current: its speed may change,
+    // its direction may not
+    let mut r = Ripple::new(&p).unwrap();
+    r.set_current(0.3, 30.0).unwrap();
+    let e = r.set_current(0.3, 40.0).unwrap_err().to_string();
+    assert!(
+        e.starts_with("current_angle = 40 is out of range") && e.contains("frame = grid"),
+        "{e}"
+    );
+    assert_eq!(r.params().current_angle, 30.0);
+    assert_eq!(r.params().current_speed, 0.3);
+    // in the grid frame the current turns freely
+    let mut g = Ripple::new(&RippleParams {
+        frame: Frame::Grid,
+        ..p
+    })
+    .unwrap();
+    g.set_current(0.3, 40.0).unwrap();
+    assert_eq!(g.params().current_angle, 40.0);
 }

@@ -451,65 +451,91 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
             angle,
         ])
     };
-    // 0.2 mm sand: Soulsby & Whitehouse predict 0.146 m, 4 wavelengths 0.584 m
-    let o = run("128x64", "90");
+    // 0.2 mm sand: Soulsby & Whitehouse predict 0.146 m, 4 wavelengths 0.584 m; the domain's
+    // length along the flow is its x side in the flow frame (the default)
+    let o = run("64x128", "90");
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
         err.contains("0.320 m") && err.contains("0.584 m") && err.contains("Soulsby"),
         "{err}"
     );
-    let o = run("128x64", "0");
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{err}");
-    assert!(!err.contains("wavelengths of the predicted"), "{err}");
+    for angle in ["0", "90"] {
+        let o = run("128x64", angle);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            !err.contains("wavelengths of the predicted"),
+            "{angle}: {err}"
+        );
+    }
 }
 
-/// `--frame flow` runs the lattice with its x axis along the current: the bed is the same
-/// whatever the current's angle (the lattice no longer pulls the crests towards its axes and
-/// diagonals), the crest normal is reported from east (the lattice's normal plus the angle),
-/// and the x axis's direction is recorded; the grid frame is the default and 2-D refuses it.
+/// The flow frame (the default) runs the lattice with its x axis along the current: the bed is
+/// the same whatever the current's angle (the lattice no longer pulls the crests towards its
+/// axes and diagonals), the crest normal is reported from east (the lattice's normal plus the
+/// angle), and the x axis's direction is recorded; `--frame grid` keeps the lattice east and
+/// is recorded in the parameters; in 2-D both frames run the same section.
 #[test]
 fn flow_frame_turns_the_lattice_with_the_current() {
-    let run = |angle: &str, frame: &str| {
-        let o = cellsurf(&[
-            "ripple",
-            "--size",
-            "48x24",
-            "--layers",
-            "10",
-            "--steps",
-            "600",
-            "--seed",
-            "2",
-            "--json",
-            "--current-angle",
-            angle,
-            "--frame",
-            frame,
-        ]);
+    let run = |args: &[&str]| {
+        let mut all = vec![
+            "ripple", "--layers", "10", "--steps", "600", "--seed", "2", "--json",
+        ];
+        if !args.contains(&"--size") {
+            all.extend_from_slice(&["--size", "48x24"]);
+        }
+        all.extend_from_slice(args);
+        let o = cellsurf(&all);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
     };
-    let a0 = run("0", "flow");
-    let a35 = run("35", "flow");
+    let a0 = run(&["--current-angle", "0"]);
+    let a35 = run(&["--current-angle", "35"]);
     assert_eq!(a35["x_axis_direction_deg"], 35.0);
-    assert_eq!(a35["parameters"]["frame"], "flow");
+    assert!(a35["parameters"].get("frame").is_none(), "the default");
+    let same = |a: &serde_json::Value, b: &serde_json::Value| {
+        for k in [
+            "parameters",
+            "wavelength_m",
+            "height_m",
+            "crest_normal_deg",
+            "activations",
+        ] {
+            assert_eq!(a[k], b[k], "{k}");
+        }
+    };
+    same(&run(&["--current-angle", "35", "--frame", "flow"]), &a35);
     assert_eq!(a0["wavelength_m"], a35["wavelength_m"]);
     assert_eq!(a0["height_m"], a35["height_m"]);
     let n0 = a0["crest_normal_deg"].as_f64().unwrap();
     let n35 = a35["crest_normal_deg"].as_f64().unwrap();
     let d = (n35 - n0 - 35.0).rem_euclid(180.0);
     assert!(d.min(180.0 - d) < 1e-9, "{n0} {n35}");
-    // the grid frame (default) runs another bed at 35 deg, its x axis east
-    let g35 = run("35", "grid");
+    // the grid frame runs another bed at 35 deg, its x axis east
+    let g35 = run(&["--current-angle", "35", "--frame", "grid"]);
     assert_eq!(g35["x_axis_direction_deg"], 0.0);
-    assert!(g35["parameters"].get("frame").is_none());
+    assert_eq!(g35["parameters"]["frame"], "grid");
     assert_ne!(g35["height_m"], a35["height_m"]);
-    let o = cellsurf(&[
-        "ripple", "--mode", "2d", "--size", "40x1", "--frame", "flow", "--steps", "10",
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("--frame") && err.contains("2-D"), "{err}");
+    // 2-D: the section runs along the current in either frame
+    let two_d = |frame: &str| {
+        let mut v = run(&[
+            "--mode",
+            "2d",
+            "--size",
+            "40x1",
+            "--current-angle",
+            "180",
+            "--frame",
+            frame,
+        ]);
+        v["parameters"]["frame"] = serde_json::Value::Null;
+        (
+            v["wavelength_m"].clone(),
+            v["height_m"].clone(),
+            v["x_axis_direction_deg"].clone(),
+        )
+    };
+    assert_eq!(two_d("flow"), two_d("grid"));
+    assert_eq!(two_d("flow").2, 0.0);
 }

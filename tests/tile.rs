@@ -441,3 +441,52 @@ fn generated_tiles_are_toroidal_runs() {
     let e: Vec<f32> = r.elevation().iter().map(|&v| v as f32).collect();
     assert_eq!(t[1].elevation, e);
 }
+
+/// A tile keeps its ripple run's frame: from a flow-frame run (the default) its current runs
+/// along its own x axis, which points along the current; from a grid-frame run its x axis
+/// points east and its current crosses it. Both survive a NetCDF file, and a pool mixing the
+/// two is refused by name.
+#[test]
+fn tiles_keep_the_frame_of_their_run() {
+    use cellsurf::ripple::output::{run_recording, write_netcdf};
+    use cellsurf::ripple::{Format, Frame, OutputSpec};
+    use cellsurf::tile::tileset::{check_pool, tiles_from_file};
+    let tile_of = |frame: Frame, name: &str| {
+        let p = RippleParams {
+            nx: 24,
+            ny: 12,
+            layers: 6,
+            steps: 20,
+            current_angle: 30.0,
+            frame,
+            ..RippleParams::default()
+        };
+        let mut r = Ripple::new(&p).unwrap();
+        let snaps = run_recording(&mut r, 20, &[20], |_| {});
+        let mem = Tile::from_ripple(&r, None, name);
+        let path = tmp(name);
+        let spec = OutputSpec {
+            fields: vec![Field::Elevation],
+            format: Format::NetCdf,
+        };
+        write_netcdf(&path, &r, &snaps, &spec).unwrap();
+        let file = tiles_from_file(&path, None, None).unwrap().remove(0);
+        assert_eq!(
+            (file.current_angle, file.x_axis_deg),
+            (mem.current_angle, mem.x_axis_deg),
+            "{frame:?}"
+        );
+        assert_eq!(file.elevation, mem.elevation);
+        mem
+    };
+    let flow = tile_of(Frame::Flow, "flow.nc");
+    assert_eq!((flow.current_angle, flow.x_axis_deg), (0.0, 30.0));
+    let grid = tile_of(Frame::Grid, "grid.nc");
+    assert_eq!((grid.current_angle, grid.x_axis_deg), (30.0, 0.0));
+    let e = check_pool(&[flow.clone(), grid]).unwrap_err().to_string();
+    assert!(
+        e.contains("x axis at 0 deg from east, first at 30 deg"),
+        "{e}"
+    );
+    assert!(check_pool(&[flow.clone(), flow]).is_ok());
+}

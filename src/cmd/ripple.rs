@@ -118,10 +118,10 @@ pub struct Args {
     /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
     wave_angle: Option<f64>,
-    /// Orientation of the lattice: grid (x east; an oblique flow crosses the lattice, whose axes
-    /// and diagonals pull the crests towards them) or flow (x along the flow: the current, or
-    /// the waves without current; the volume is written in that frame, its x axis at
-    /// `x_axis_direction_deg` from east) [default: grid].
+    /// Orientation of the lattice: flow (x along the flow: the current, or the waves without
+    /// current; the volume is written in that frame, its x axis at `x_axis_direction_deg` from
+    /// east) or grid (x east; an oblique flow crosses the lattice, whose axes and diagonals
+    /// pull the crests towards them); the same in 2d [default: flow].
     #[arg(long)]
     frame: Option<cellsurf::ripple::Frame>,
     /// Avalanche angle alpha, degrees [default: 32].

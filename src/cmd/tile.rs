@@ -111,8 +111,11 @@ pub struct Args {
     /// --dunes: a dune wavelength, m (a band-limited spectrum instead of fBm).
     #[arg(long)]
     dune_wavelength: Option<f64>,
-    /// Current direction, degrees from +x, for --dunes (the ripple pattern is turned to it) and
-    /// for the --generate runs [default: the tiles' current]; with neither it is an error.
+    /// Current direction, degrees counter-clockwise from east, for --dunes (the ripple pattern is
+    /// turned to it) and for the --generate runs [default: the tiles' current]; with neither it
+    /// is an error. The mosaic is laid in the tiles' frame: its x axis is theirs
+    /// (`x_axis_direction_deg` in the output; the flow's direction for ripple runs in the flow
+    /// frame).
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// --dunes: steering of the current by the dune slope, dimensionless: u = e - steering grad D,
@@ -183,6 +186,7 @@ struct Recorded {
     current_angle: f64,
     steering: f64,
     dune_grid: usize,
+    x_axis_direction_deg: f64,
 }
 
 fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Result<(T, T)> {
@@ -447,12 +451,17 @@ pub fn run(a: Args) -> Result<()> {
         (None, None) => (3, 3),
     };
     let labels: Vec<String> = tiles.iter().map(|t| t.label.clone()).collect();
+    // The mosaic is laid in the tiles' frame: its x axis is theirs (east for grid-frame runs,
+    // the flow for flow-frame runs); --current-angle is from east, the dunes' current is taken
+    // in the mosaic's frame.
     let tile_angle = tiles[0].current_angle;
+    let x_axis = tiles[0].x_axis_deg;
+    let current_in_mosaic = a.current_angle.map(|c| c - x_axis).unwrap_or(tile_angle);
     let mosaic = Mosaic::new(tiles, mx, my, choose, a.seed, a.blend)?;
     let relief = match a.dune_wavelength {
         Some(wavelength) => Relief::Wavelength {
             wavelength,
-            current_angle: a.current_angle.unwrap_or(tile_angle),
+            current_angle: current_in_mosaic,
         },
         None => Relief::Fbm { hurst: a.hurst },
     };
@@ -462,7 +471,7 @@ pub fn run(a: Args) -> Result<()> {
         relief,
         rms: a.dune_rms.unwrap_or(0.0),
         grid: dune_grid,
-        current_angle: a.current_angle.unwrap_or(tile_angle),
+        current_angle: current_in_mosaic,
         steering: a.steering,
         seed: a.seed,
     };
@@ -493,9 +502,10 @@ pub fn run(a: Args) -> Result<()> {
         hurst: a.hurst,
         dune_rms: dune_params.rms,
         dune_wavelength: a.dune_wavelength.unwrap_or(0.0),
-        current_angle: dune_params.current_angle,
+        current_angle: dune_params.current_angle + x_axis,
         steering: a.steering,
         dune_grid,
+        x_axis_direction_deg: x_axis,
     };
     let spec = StreamSpec {
         format,
@@ -563,6 +573,7 @@ pub fn run(a: Args) -> Result<()> {
             "height": h,
             "levels": if a.volume.is_some() { src.levels() } else { 0 },
             "bin_size_m": dx,
+            "x_axis_direction_deg": x_axis,
             "extent_m": [w as f64 * dx, h as f64 * dx],
             "mosaic": [mx, my],
             "tile": [nx, ny],
@@ -581,7 +592,7 @@ pub fn run(a: Args) -> Result<()> {
                 "measured_slope": opt(dune_slope),
                 "dune_wavelength_m": a.dune_wavelength,
                 "rms_m": opt(dune_rms),
-                "current_angle_deg": dune_params.current_angle,
+                "current_angle_deg": dune_params.current_angle + x_axis,
                 "max_dune_slope_deg": dune_slopes.map(|s| s.max_deg),
                 "rms_dune_slope_deg": dune_slopes.map(|s| s.rms_deg),
                 "dune_slope_above_repose_fraction": dune_slopes.map(|s| s.above_repose),

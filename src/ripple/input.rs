@@ -11,7 +11,7 @@ use netcdf3::{FileReader, NC_FILL_F32};
 
 use super::RippleError;
 use super::output::Field;
-use super::params::RippleParams;
+use super::params::{Frame, RippleParams};
 
 /// The content of a ripple NetCDF file.
 #[derive(Clone, Debug, PartialEq)]
@@ -124,9 +124,23 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
             "the file records no run parameters (param_* attributes)",
         ));
     }
-    let params: RippleParams = toml::Value::Table(table)
+    let mut params: RippleParams = toml::Value::Table(table)
         .try_into()
         .map_err(|e| read_err(path, format!("parameters: {e}")))?;
+    // The lattice's frame: recorded as `param_frame` when it is not the default; otherwise told
+    // by the x axis's direction (files written before the flow frame have neither: grid).
+    params.frame = match ds.get_global_attr_as_string("param_frame") {
+        Some(s) => s
+            .parse()
+            .map_err(|e| read_err(path, format!("parameters: {e}")))?,
+        None => match ds
+            .get_global_attr_f64("x_axis_direction_deg")
+            .and_then(|v| v.first().copied())
+        {
+            Some(a) if a == params.frame_angle() => Frame::Flow,
+            _ => Frame::Grid,
+        },
+    };
 
     let has_elevation = ds.get_var("elevation").is_some();
     let written: Vec<Field> = Field::ALL

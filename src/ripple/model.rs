@@ -14,7 +14,7 @@ use rand::RngExt;
 use super::RippleError;
 use super::compaction::Compaction;
 use super::grain::GrainClasses;
-use super::params::{Mode, RippleParams};
+use super::params::{Frame, Mode, RippleParams, shown};
 use super::volume::{Automaton, SandVolume};
 use super::water::{Flow, WaterVolume};
 use crate::engine::lattice::{Boundary, Lattice, Neighbourhood};
@@ -196,12 +196,27 @@ impl Ripple {
 
     /// Changes the steady current from the next step on (an interactive run): `speed` in m/s,
     /// 0..=10; `angle` in degrees counter-clockwise from +x, finite (a 2-D section uses its
-    /// sign along x only). Errors name the parameter and leave the run unchanged.
+    /// sign along x only). In a 3-D run in the flow frame the lattice was turned with the
+    /// starting flow, so its direction cannot change (start in the grid frame to turn the
+    /// current during a run). Errors name the parameter and leave the run unchanged.
     pub fn set_current(&mut self, speed: f64, angle: f64) -> Result<(), RippleError> {
         let mut p = self.p.clone();
         p.current_speed = speed;
         p.current_angle = angle;
         p.validate()?;
+        if p.mode == Mode::ThreeD
+            && p.frame == Frame::Flow
+            && p.frame_angle() != self.p.frame_angle()
+        {
+            return Err(RippleError::Range {
+                parameter: "current_angle",
+                value: shown(angle),
+                expected: format!(
+                    "{} deg: the flow frame's lattice was turned with the starting flow (start with frame = grid to turn the current during a run)",
+                    shown(self.p.current_angle)
+                ),
+            });
+        }
         self.p = p;
         Ok(())
     }

@@ -38,16 +38,17 @@ pub enum Abstraction {
 #[serde(rename_all = "lowercase")]
 pub enum Frame {
     /// The lattice's x axis points east (0 deg); the flow crosses it at `current_angle`.
-    #[default]
     Grid,
-    /// The lattice's x axis points along the flow ([`RippleParams::frame_angle`]).
+    /// The lattice's x axis points along the flow ([`RippleParams::frame_angle`]): the
+    /// default.
+    #[default]
     Flow,
 }
 
 impl Frame {
-    /// Whether this is the default grid frame (left out of scenario and output files).
-    pub fn is_grid(&self) -> bool {
-        *self == Frame::Grid
+    /// Whether this is the default flow frame (left out of scenario and output files).
+    pub fn is_flow(&self) -> bool {
+        *self == Frame::Flow
     }
 }
 
@@ -155,8 +156,9 @@ pub struct RippleParams {
     /// direction, or the waves' when there is no current: [`RippleParams::frame_angle`]), so
     /// that the lattice does not pull the crests towards its axes and diagonals. The volume is
     /// written in the lattice's frame, its x axis at `frame_angle` degrees from east (recorded
-    /// in every output). Default `grid`.
-    #[serde(skip_serializing_if = "Frame::is_grid")]
+    /// in every output). In 2-D both are the same: the section runs along the current.
+    /// Default `flow`.
+    #[serde(skip_serializing_if = "Frame::is_flow")]
     pub frame: Frame,
     /// Avalanche angle alpha (Eq. 6), degrees, in (0, 90). Default 32.
     pub avalanche_angle: f64,
@@ -216,7 +218,7 @@ impl Default for RippleParams {
             wave_period: 0.0,
             wave_amplitude: 0.0,
             wave_angle: None,
-            frame: Frame::Grid,
+            frame: Frame::Flow,
             avalanche_angle: 32.0,
             stoss_angle: 7.0,
             creep_angle: 5.0,
@@ -434,13 +436,6 @@ impl RippleParams {
                 ));
             }
         }
-        if self.frame == Frame::Flow && self.mode == Mode::TwoD {
-            return Err(range(
-                "frame",
-                "flow",
-                "grid in 2-D mode (the section already runs along the current)",
-            ));
-        }
         check_f(
             "avalanche_angle",
             self.avalanche_angle,
@@ -530,6 +525,7 @@ mod tests {
         let p = RippleParams {
             current_angle: 30.0,
             wave_angle: Some(80.0),
+            frame: Frame::Grid,
             ..RippleParams::default()
         };
         // grid frame: the lattice's x axis east, the flow across it
@@ -552,14 +548,18 @@ mod tests {
         };
         assert_eq!(w.frame_angle(), 80.0);
         assert_eq!(w.lattice_wave_angle(), Some(0.0));
-        // 2-D: no frame but the grid's
+        // the default is the flow frame
+        assert_eq!(RippleParams::default().frame, Frame::Flow);
+        // 2-D: the section runs along the current in either frame
         let e = RippleParams {
             mode: Mode::TwoD,
             ny: 1,
-            current_angle: 0.0,
+            current_angle: 180.0,
             wave_angle: None,
             ..f
         };
-        assert!(e.validate().unwrap_err().to_string().contains("frame"));
+        assert!(e.validate().is_ok());
+        assert_eq!(e.frame_angle(), 0.0);
+        assert_eq!(e.lattice_current_angle(), 180.0);
     }
 }

@@ -445,7 +445,7 @@ pub fn delta_s(dx: f64, dh: f64, gd: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ripple::params::{Mode, RippleParams};
+    use crate::ripple::params::{Frame, Mode, RippleParams};
 
     fn two_d(heights: &[usize], f: impl FnOnce(&mut RippleParams)) -> Ripple {
         let mut p = RippleParams {
@@ -654,7 +654,7 @@ mod tests {
 
     /// The mean displacement of grains set off one at a time on a flat bed, as an angle
     /// (degrees, 0..360), and the number of moves measured.
-    fn flat_bed_mean_direction(angle: f64, seed: u64, trials: usize) -> (f64, usize) {
+    fn flat_bed_mean_direction(angle: f64, frame: Frame, seed: u64, trials: usize) -> (f64, usize) {
         let (nx, ny) = (32usize, 32usize);
         let p = RippleParams {
             nx,
@@ -662,6 +662,7 @@ mod tests {
             sorting: 0.0,
             roughness: 0,
             current_angle: angle,
+            frame,
             seed,
             ..RippleParams::default()
         };
@@ -684,22 +685,30 @@ mod tests {
             let a = r.vol.pop(q).unwrap();
             r.vol.push(c, a);
         }
-        (sy.atan2(sx).to_degrees().rem_euclid(360.0), n)
+        // from the lattice's frame to east-based degrees
+        (
+            (sy.atan2(sx).to_degrees() + p.frame_angle()).rem_euclid(360.0),
+            n,
+        )
     }
 
     #[test]
     fn mean_hop_direction_on_a_flat_bed_follows_the_current() {
         // 3000 grains each: the angle of the mean has a standard error of about
         // 1 / (hops x sqrt(n)) rad ~ 0.4 deg; 2 deg is 5 standard errors.
-        for step in 0..24 {
-            let angle = 15.0 * step as f64;
-            let (dir, n) = flat_bed_mean_direction(angle, 7 + step as u64, 3000);
-            assert!(n > 2500, "{angle}: only {n} grains moved");
-            let err = ((dir - angle + 180.0).rem_euclid(360.0) - 180.0).abs();
-            assert!(
-                err < 2.0,
-                "current {angle} deg: mean hop direction {dir:.2} deg"
-            );
+        // In the grid frame the hops are rounded stochastically between octants; in the flow
+        // frame they run along the lattice's x axis, turned to the current.
+        for frame in [Frame::Grid, Frame::Flow] {
+            for step in 0..24 {
+                let angle = 15.0 * step as f64;
+                let (dir, n) = flat_bed_mean_direction(angle, frame, 7 + step as u64, 3000);
+                assert!(n > 2500, "{angle}: only {n} grains moved");
+                let err = ((dir - angle + 180.0).rem_euclid(360.0) - 180.0).abs();
+                assert!(
+                    err < 2.0,
+                    "{frame:?} frame, current {angle} deg: mean hop direction {dir:.2} deg"
+                );
+            }
         }
     }
 }

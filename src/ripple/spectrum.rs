@@ -5,9 +5,11 @@
 //! - **Wavelength and orientation**: the elevation minus its mean is transformed with a 2-D FFT
 //!   (rows then columns); the dominant wave vector is the power-weighted mean over the bins
 //!   holding at least half the largest power (one of each pair k, -k). The wavelength is
-//!   `1 / |k|` (k in cycles per metre, |k| power-averaged) and `crest_normal_deg` the direction
-//!   of k in degrees, in [0, 180) (averaged as a doubled angle: a wave vector and its opposite
-//!   are the same ripples), comparable with `current_angle` modulo 180.
+//!   `1 / |k|` (k in cycles per metre, |k| power-averaged) and `crest_normal_deg` the
+//!   power-weighted direction of k in degrees, in [0, 180), over the peak and its side bands
+//!   (bins above a tenth of the largest power, [`ORIENTATION_POWER_FRACTION`]; averaged as a
+//!   doubled angle: a wave vector and its opposite are the same ripples), comparable with
+//!   `current_angle` modulo 180.
 //! - **Height, slopes, symmetry**: measured ripple by ripple on profiles along the current
 //!   ([`super::morphometry`]): the mean crest-to-trough height, the slope of the middle half of
 //!   the lee faces (the slip face) and of the stoss faces, and the symmetry index (stoss
@@ -49,6 +51,14 @@ pub struct Analysis {
     pub d50_trough_mm: f64,
 }
 
+/// The share of the largest power above which a spectral bin counts for the orientation. On a
+/// torus a few wavelengths across the wave vectors are the discrete modes `(n/Lx, m/Ly)`: a
+/// field whose crests wind once across a 64 cm domain has its largest bin at 18 deg although
+/// most of its crests run square to the flow, and the half-maximum cut of the wavelength would
+/// read the orientation from that one mode. The orientation weighs the peak with its side
+/// bands instead (the bins above a tenth of the largest power).
+pub const ORIENTATION_POWER_FRACTION: f64 = 0.1;
+
 /// The dominant wave vector of a row-major `nx x ny` field with bins `dx` m:
 /// (wavelength m, direction degrees in [0, 180)). NaN for a flat field.
 pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64) {
@@ -64,7 +74,8 @@ pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64)
     };
     // The dominant peak: power-weighted mean over the bins holding at least half the largest
     // power (a wave vector and its opposite counted once, on the half plane kx > 0 or
-    // kx = 0, ky > 0); the direction is averaged as a doubled angle (axial data).
+    // kx = 0, ky > 0); the direction over the peak and its side bands, averaged as a doubled
+    // angle (axial data).
     let mut bins = Vec::new();
     let mut pmax = 0.0f64;
     for y in 0..ny {
@@ -84,9 +95,11 @@ pub fn dominant_wave(field: &[f64], nx: usize, ny: usize, dx: f64) -> (f64, f64)
     let (mut w, mut kk, mut c2, mut s2) = (0.0, 0.0, 0.0, 0.0);
     for &(p, kx, ky) in &bins {
         if p >= 0.5 * pmax {
-            let a = ky.atan2(kx);
             w += p;
             kk += p * (kx * kx + ky * ky).sqrt();
+        }
+        if p >= ORIENTATION_POWER_FRACTION * pmax {
+            let a = ky.atan2(kx);
             c2 += p * (2.0 * a).cos();
             s2 += p * (2.0 * a).sin();
         }
@@ -216,5 +229,30 @@ mod tests {
         let k = ((4.0f64 / 0.64).powi(2) + (2.0f64 / 0.32).powi(2)).sqrt();
         assert!((wl - 1.0 / k).abs() < 1e-9, "{wl}");
         assert!((ang - 45.0).abs() < 1e-6, "{ang}");
+    }
+
+    #[test]
+    fn orientation_weighs_the_side_bands() {
+        // A wound crest, mode (4, 1) at 14.0 deg, over straight crests, mode (4, 0), with 0.36
+        // of its power: the wavelength is the half-maximum peak's, the orientation the
+        // power-weighted doubled angle of both (above a tenth of the largest power), and a
+        // mode below that tenth is left out.
+        let (n, dx) = (64, 0.01);
+        let tau = 2.0 * std::f64::consts::PI;
+        let f: Vec<f64> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f64 / n as f64, (i / n) as f64 / n as f64);
+                (tau * (4.0 * x + y)).cos()
+                    + 0.6 * (tau * 4.0 * x).cos()
+                    + 0.3 * (tau * 2.0 * y).cos()
+            })
+            .collect();
+        let (wl, ang) = dominant_wave(&f, n, n, dx);
+        let l = n as f64 * dx;
+        assert!((wl - l / 17f64.sqrt()).abs() < 1e-9, "{wl}");
+        let t1 = 0.25f64.atan();
+        let want = (0.5 * (2.0 * t1).sin().atan2((2.0 * t1).cos() + 0.36)).to_degrees();
+        assert!((ang - want).abs() < 1e-6, "{ang} against {want}");
+        assert!(want > 4.0 && want < 14.0 * 0.75, "{want}");
     }
 }

@@ -29,8 +29,12 @@ pub struct Tile {
     pub bin_size: f64,
     /// Height of one automaton, m.
     pub layer_thickness: f64,
-    /// Direction of the current that shaped the tile, degrees counter-clockwise from +x.
+    /// Direction of the current that shaped the tile, degrees counter-clockwise from the
+    /// tile's own +x axis (0 for a ripple run in the flow frame, whose x axis is the current).
     pub current_angle: f64,
+    /// Direction of the tile's +x axis, degrees counter-clockwise from east (the ripple run's
+    /// `x_axis_direction_deg`: 0 in the grid frame, the flow's direction in the flow frame).
+    pub x_axis_deg: f64,
     /// Bed elevation, m, row-major (`y * nx + x`).
     pub elevation: Vec<f32>,
     /// A volume field, where asked.
@@ -55,6 +59,7 @@ impl Tile {
             bin_size,
             layer_thickness: bin_size,
             current_angle: 0.0,
+            x_axis_deg: 0.0,
             elevation,
             volume: None,
             label: label.into(),
@@ -79,7 +84,8 @@ impl Tile {
             ny,
             bin_size: p.bin_size,
             layer_thickness: p.layer_thickness,
-            current_angle: p.current_angle,
+            current_angle: p.lattice_current_angle(),
+            x_axis_deg: p.frame_angle(),
             elevation: r.elevation().iter().map(|&v| v as f32).collect(),
             volume,
             label: label.into(),
@@ -196,6 +202,14 @@ pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
                 t.nx, t.ny, first.nx, first.ny
             )));
         }
+        if t.x_axis_deg != first.x_axis_deg {
+            return Err(bad(format!(
+                "x axis at {} deg from east, first at {} deg (ripple runs in the flow frame turn \
+                 their lattice with the flow: run the tiles with one flow direction, or with \
+                 frame = grid)",
+                t.x_axis_deg, first.x_axis_deg
+            )));
+        }
         if (t.bin_size - first.bin_size).abs() > 1e-9 * first.bin_size {
             return Err(bad(format!(
                 "bin size {} m, first {} m",
@@ -294,7 +308,8 @@ pub fn tiles_from_file(
                 ny: f.ny,
                 bin_size: f.bin_size,
                 layer_thickness: f.layer_thickness,
-                current_angle: f.params.current_angle,
+                current_angle: f.params.lattice_current_angle(),
+                x_axis_deg: f.params.frame_angle(),
                 elevation: f.elevation[i].clone(),
                 volume: volume.clone(),
                 label: format!("{name}, step {}", f.times[i]),
