@@ -288,7 +288,14 @@ fn waves_by_orbital_velocity_period_and_angle() {
     for (extra, flag) in [
         (&["--wave-velocity", "0.4"][..], "--wave-velocity"),
         (
-            &["--wave-velocity", "0.4", "--wave-period", "0.01s"][..],
+            &[
+                "--wave-velocity",
+                "0.4",
+                "--wave-period",
+                "0.01s",
+                "--wave-friction-factor",
+                "0",
+            ][..],
             "--wave-period",
         ),
         (
@@ -340,14 +347,15 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
         cellsurf(&args)
     };
     // T = 8 s, h = 10 m: k h = 0.8862; H = 1 m gives U_w = pi / (8 sinh 0.8862)
-    let o = run(&[
+    let surface = [
         "--wave-height",
         "1",
         "--wave-period",
         "8s",
         "--water-depth",
         "10",
-    ]);
+    ];
+    let o = run(&surface);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let uw = v["wave_velocity_m_per_s"].as_f64().unwrap();
@@ -356,6 +364,18 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
     assert_eq!(v["water_depth_m"], 10.0);
     let d0 = v["orbital_diameter_m"].as_f64().unwrap();
     assert!((d0 - uw * 8.0 / std::f64::consts::PI).abs() < 1e-9, "{d0}");
+    // the waves' own bed friction (Soulsby 1997, Eq. 60a): f_w = 1.39 (A / z0)^-0.52 with
+    // A = d0 / 2 and z0 = d50 / 12; their Shields number is f_w / (2 C_D) times that of the
+    // current's drag law (--wave-friction-factor 0)
+    let fw = 1.39 * (0.5 * d0 / (0.3e-3 / 12.0)).powf(-0.52);
+    let got = v["parameters"]["wave_friction_factor"].as_f64().unwrap();
+    assert!((got - fw).abs() < 1e-12, "{got} {fw}");
+    let o = run(&[&surface[..], &["--wave-friction-factor", "0"]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v0: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v0["parameters"].get("wave_friction_factor").is_none());
+    let ratio = v["shields"].as_f64().unwrap() / v0["shields"].as_f64().unwrap();
+    assert!((ratio - fw / 2.0 / 0.0025).abs() < 1e-9, "{ratio}");
     // the prediction the run is checked against: Wiberg & Harris for a wave-dominated flow
     assert!(
         v["predictor"]
@@ -421,6 +441,18 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
             &["--duration", "two hours"][..],
             "--duration",
             "s, min, h or d",
+        ),
+        (
+            &[
+                "--wave-velocity",
+                "0.3",
+                "--wave-period",
+                "4s",
+                "--wave-friction-factor",
+                "2",
+            ][..],
+            "--wave-friction-factor",
+            "[0, 1]",
         ),
     ] {
         let o = run(extra);

@@ -18,7 +18,7 @@ use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::run_until_mature;
 use cellsurf::ripple::predictors::{Prediction, length_along};
 use cellsurf::ripple::regime::Regime;
-use cellsurf::ripple::waves::SurfaceWave;
+use cellsurf::ripple::waves::{SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -114,6 +114,11 @@ pub struct Args {
     /// Water depth h, m, for --wave-height.
     #[arg(long, value_name = "M", allow_hyphen_values = true)]
     water_depth: Option<f64>,
+    /// Wave friction factor f_w of the waves' bed stress rho (f_w / 2) U_w^2, 0 to 1 (0: the
+    /// waves use the current's drag coefficient) [default: with --wave-period, Soulsby (1997)
+    /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3].
+    #[arg(long, allow_hyphen_values = true)]
+    wave_friction_factor: Option<f64>,
     /// Direction the waves propagate towards, degrees counter-clockwise from +x, -360 to 360;
     /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
@@ -210,6 +215,7 @@ fn params(a: &Args) -> Result<RippleParams> {
         current_angle,
         current_speed,
         wave_amplitude,
+        wave_friction_factor,
         frame,
         avalanche_angle,
         stoss_angle,
@@ -248,6 +254,10 @@ fn params(a: &Args) -> Result<RippleParams> {
             .collect::<Vec<_>>()
             .join(" and ")
         ),
+    }
+    // the waves' own bed friction, from their orbital excursion (seconds given here)
+    if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {
+        p.wave_friction_factor = wave_friction_factor(p.wave_amplitude, t, p.d50 * 1e-3);
     }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
@@ -364,9 +374,20 @@ pub fn run(a: Args) -> Result<()> {
 
     let reg = cellsurf::ripple::regime::regime(&p);
     let (lo, hi) = reg.ripple_speeds;
+    // the waves' friction, when they have their own: the speeds below are those of a current
+    // with the same bed stress
+    let wave_note = if p.wave_amplitude > 0.0 && p.wave_friction_factor > 0.0 {
+        format!(
+            " and wave friction factor {:.4}, a current of {:.3} m/s for the bed stress",
+            p.wave_friction_factor,
+            p.wave_stress_amplitude()
+        )
+    } else {
+        String::new()
+    };
     match reg.regime {
         Regime::SheetFlow => bail!(
-            "--current-speed = {} m/s (with --wave-amplitude {} m/s) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            "--current-speed = {} m/s (with --wave-velocity {} m/s{wave_note}) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
             p.current_speed,
             p.wave_amplitude,
             reg.shields,

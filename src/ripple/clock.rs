@@ -65,8 +65,8 @@ pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
     (0..64)
         .map(|k| {
             let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0).sin();
-            let ux = p.current_speed * c.cos() + p.wave_amplitude * s * w.cos();
-            let uy = p.current_speed * c.sin() + p.wave_amplitude * s * w.sin();
+            let ux = p.current_speed * c.cos() + p.wave_stress_amplitude() * s * w.cos();
+            let uy = p.current_speed * c.sin() + p.wave_stress_amplitude() * s * w.sin();
             ux.hypot(uy)
         })
         .collect()

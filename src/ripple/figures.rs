@@ -750,6 +750,12 @@ struct ValidationRecord {
 /// Runs `case` with `seed` for its seconds of flow ([`VALIDATION_SECONDS`]).
 fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, String> {
     let mut p = case.params(seed)?;
+    if let ValidationCase::Wave(d0) = case {
+        // the waves' own bed friction, as the command line sets it
+        let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
+        p.wave_friction_factor =
+            super::waves::wave_friction_factor(VALIDATION_UW, period_s, p.d50 * 1e-3);
+    }
     let clock = super::clock::StepClock::of(&p).map_err(|e| e.to_string())?;
     p.steps = clock.steps_for(case.seconds()).map_err(|e| e.to_string())?;
     if let ValidationCase::Wave(d0) = case {

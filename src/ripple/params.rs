@@ -147,6 +147,14 @@ pub struct RippleParams {
     /// Amplitude of the oscillating flow component (the near-bed orbital velocity), m/s,
     /// 0..=10. Default 0.
     pub wave_amplitude: f64,
+    /// Wave friction factor `f_w` of the waves' bed stress `tau_w = rho_w (f_w / 2) U_w^2`
+    /// (R. L. Soulsby (1997), *Dynamics of Marine Sands*, Eq. 57), dimensionless, in [0, 1];
+    /// 0: the waves use `drag_coefficient` like the current (the paper's single law). The
+    /// command line sets it from the orbital excursion and the grain size (Soulsby's Eq. 60a,
+    /// [`super::waves::wave_friction_factor`]): the thin wave boundary layer rubs the bed
+    /// harder than a current of the same speed. Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wave_friction_factor: f64,
     /// Direction the waves propagate towards, degrees counter-clockwise from +x; absent: along
     /// `current_angle`; -360..=360. 3-D only. Default absent.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -217,6 +225,7 @@ impl Default for RippleParams {
             current_speed: 0.5,
             wave_period: 0.0,
             wave_amplitude: 0.0,
+            wave_friction_factor: 0.0,
             wave_angle: None,
             frame: Frame::Flow,
             avalanche_angle: 32.0,
@@ -253,6 +262,11 @@ pub(crate) fn shown(v: f64) -> String {
     } else {
         v.to_string()
     }
+}
+
+/// Whether a number is zero (left out of scenario and output files).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn check_f(
@@ -302,6 +316,19 @@ impl RippleParams {
             self.current_angle
         } else {
             self.wave_angle.unwrap_or(self.current_angle)
+        }
+    }
+
+    /// The wave amplitude, m/s, that gives the waves' bed stress through `drag_coefficient`:
+    /// `U_w sqrt(f_w / (2 C_D))`, or `U_w` itself when `wave_friction_factor` is 0. The rules,
+    /// the step clock, the regime and Rubin & Hunter's crest normal combine it with the
+    /// current as vectors (friction velocities `sqrt(C_D) U_c` and `sqrt(f_w / 2) U_w` add),
+    /// so that `rho_w C_D u^2` of the combined speed `u` is the bed stress.
+    pub fn wave_stress_amplitude(&self) -> f64 {
+        if self.wave_friction_factor > 0.0 {
+            self.wave_amplitude * (0.5 * self.wave_friction_factor / self.drag_coefficient).sqrt()
+        } else {
+            self.wave_amplitude
         }
     }
 
@@ -463,6 +490,14 @@ impl RippleParams {
             true,
             false,
         )?;
+        check_f(
+            "wave_friction_factor",
+            self.wave_friction_factor,
+            0.0,
+            1.0,
+            false,
+            false,
+        )?;
         if !(1..=4096).contains(&self.slice_layers) {
             return Err(range(
                 "slice_layers",
@@ -516,6 +551,42 @@ mod tests {
         .to_string();
         assert!(
             e.starts_with("current_speed = 1e300 is out of range"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn wave_stress_amplitude_gives_the_waves_own_stress() {
+        // rho_w C_D (U'_w)^2 = rho_w (f_w / 2) U_w^2
+        let p = RippleParams {
+            wave_amplitude: 0.4,
+            wave_period: 100.0,
+            wave_friction_factor: 0.013,
+            ..RippleParams::default()
+        };
+        let u = p.wave_stress_amplitude();
+        assert!(
+            (p.drag_coefficient * u * u - 0.5 * 0.013 * 0.16).abs() < 1e-15,
+            "{u}"
+        );
+        // no wave friction factor: the current's law
+        let q = RippleParams {
+            wave_friction_factor: 0.0,
+            ..p.clone()
+        };
+        assert_eq!(q.wave_stress_amplitude(), 0.4);
+        // left out of files when 0, refused out of [0, 1]
+        assert!(!q.to_toml().contains("wave_friction_factor"));
+        assert!(p.to_toml().contains("wave_friction_factor = 0.013"));
+        let e = RippleParams {
+            wave_friction_factor: 1.5,
+            ..p
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with("wave_friction_factor = 1.5 is out of range"),
             "{e}"
         );
     }

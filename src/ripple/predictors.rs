@@ -156,8 +156,8 @@ pub fn rubin_hunter_crest_normal(p: &RippleParams) -> Option<f64> {
             } else {
                 0.0
             };
-            let ux = p.current_speed * c.cos() + p.wave_amplitude * s * w.cos();
-            let uy = p.current_speed * c.sin() + p.wave_amplitude * s * w.sin();
+            let ux = p.current_speed * c.cos() + p.wave_stress_amplitude() * s * w.cos();
+            let uy = p.current_speed * c.sin() + p.wave_stress_amplitude() * s * w.sin();
             let u = ux.hypot(uy);
             let qb = meyer_peter_mueller(shields(bed_shear_stress(u, p.drag_coefficient), d), d);
             (qb, uy.atan2(ux))

@@ -5,7 +5,10 @@
 //! friction law of R. L. Soulsby (1997), *Dynamics of Marine Sands*, Thomas Telford, Eq. 30;
 //! `C_D` is the run's `drag_coefficient`, the same law the rules use for each grain class,
 //! [`super::grain`]). With a wave the stress is judged at the largest speed of the cycle,
-//! the larger of `|U_c e_c +- U_w e_w|` (`|U_c| + U_w` when they are aligned).
+//! the larger of `|U_c e_c +- U'_w e_w|` (`|U_c| + U'_w` when they are aligned), with
+//! `U'_w = U_w sqrt(f_w / (2 C_D))` the wave amplitude that gives the waves' own stress
+//! `rho_w (f_w / 2) U_w^2` ([`RippleParams::wave_stress_amplitude`]; `U_w` itself when the run
+//! has no wave friction factor).
 //!
 //! **Shields number and threshold.** `theta = tau / ((rho_s - rho_w) g d50)` (Soulsby 1997,
 //! Eq. 74) against the threshold `theta_cr(D*)` of Soulsby's Eq. 77 ([`super::grain::theta_cr`]).
@@ -68,7 +71,8 @@ impl Regime {
 pub struct RegimeReport {
     /// The regime.
     pub regime: Regime,
-    /// The largest free-stream speed of the run, m/s (`|U_c| + U_w` when aligned).
+    /// The largest speed of the run, m/s, that gives the bed stress through `C_D` (`|U_c| + U'_w`
+    /// when aligned: module docs).
     pub speed: f64,
     /// Bed shear stress at that speed, Pa.
     pub bed_shear_stress: f64,
@@ -111,8 +115,8 @@ pub fn regime(p: &RippleParams) -> RegimeReport {
         [1.0, -1.0]
             .iter()
             .map(|s| {
-                let ux = p.current_speed * c.cos() + s * p.wave_amplitude * w.cos();
-                let uy = p.current_speed * c.sin() + s * p.wave_amplitude * w.sin();
+                let ux = p.current_speed * c.cos() + s * p.wave_stress_amplitude() * w.cos();
+                let uy = p.current_speed * c.sin() + s * p.wave_stress_amplitude() * w.sin();
                 ux.hypot(uy)
             })
             .fold(0.0, f64::max)

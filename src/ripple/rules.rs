@@ -31,7 +31,7 @@
 //! (above) and no grain resting on a steeper stoss, no stoss face is built steeper than beta:
 //! measured stoss slopes are 4.7 / 6.0 / 7.8 deg for beta = 5 / 7 / 10 deg (18 deg without
 //! the cap; test `stoss_cap_beta_sets_the_stoss_slope`). The cap is for the stoss of current
-//! ripples: where the waves' orbital velocity exceeds the current, each face is the stoss for
+//! ripples: where the waves' bed stress exceeds the current's, each face is the stoss for
 //! half a cycle and the lee for the other half, and the cap is off (our reading; capping both
 //! faces at beta flattens wave ripples).
 //!
@@ -309,7 +309,7 @@ impl Ripple {
         // The stoss cap (beta, "the maximum slope of the stoss side"): a grain does not come
         // to rest where it would make the rise from the column upstream steeper than beta; it
         // rests at the last column of its path where it would not (the foot of the rise).
-        let capped = self.p.current_speed >= self.p.wave_amplitude;
+        let capped = self.p.current_speed >= self.p.wave_stress_amplitude();
         while capped && hops > 0 && self.stoss_too_steep(p, k, c) {
             p = path.pop().expect("one column per hop") as usize;
             hops -= 1;

@@ -4,7 +4,9 @@
 //!
 //! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
 //! `current_angle` (on the lattice: less the frame's angle, [`RippleParams::frame_angle`]): a steady current `U_c` plus an oscillating (wave) component of amplitude
-//! `U_w` and period `T` steps; with a `wave_angle` of their own, the vector sum
+//! `U_w` and period `T` steps (for the bed stress, `U_w sqrt(f_w / (2 C_D))` when the run
+//! has a wave friction factor: [`RippleParams::wave_stress_amplitude`]); with a `wave_angle`
+//! of their own, the vector sum
 //! `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs the other way (angle + 180 deg),
 //! so a pure wave (`U_c = 0`) pushes equally both ways and gives symmetric ripples.
 //!
@@ -54,7 +56,7 @@ impl Flow {
     /// The flow at step `t` (2-D mode keeps it along +-x).
     pub fn at(p: &RippleParams, t: u64, two_d: bool) -> Flow {
         let wave = if p.wave_period > 0.0 {
-            p.wave_amplitude * (2.0 * PI * (t as f64 + 0.5) / p.wave_period).sin()
+            p.wave_stress_amplitude() * (2.0 * PI * (t as f64 + 0.5) / p.wave_period).sin()
         } else {
             0.0
         };

@@ -8,7 +8,12 @@
 //!
 //! - dispersion relation `omega^2 = g k tanh(k h)`, `omega = 2 pi / T` ([`wavenumber`]);
 //! - near-bed orbital velocity amplitude `U_w = pi H / (T sinh(k h))` ([`SurfaceWave::orbital_velocity`]);
-//! - orbital excursion amplitude `A = U_w T / (2 pi)` and diameter `d0 = 2 A = U_w T / pi`.
+//! - orbital excursion amplitude `A = U_w T / (2 pi)` and diameter `d0 = 2 A = U_w T / pi`;
+//! - the wave friction factor of a rough bed, `f_w = 1.39 (A / z0)^-0.52` with
+//!   `z0 = d50 / 12` (Soulsby 1997, Eq. 60a; [`wave_friction_factor`]), at most 0.3 (the upper
+//!   limit of I. G. Jonsson (1966) and D. H. Swart (1974), "Offshore sediment transport and
+//!   equilibrium beach profiles", Delft Hydraulics Publ. 131, for excursions of a few grain
+//!   roughnesses).
 //!
 //! Linear theory holds for waves that are neither breaking nor too steep: [`SurfaceWave::new`]
 //! refuses a height above 0.78 of the depth (the depth-limited breaking of a solitary wave,
@@ -125,6 +130,20 @@ impl SurfaceWave {
     }
 }
 
+/// The largest wave friction factor (Jonsson 1966; Swart 1974).
+pub const WAVE_FRICTION_MAX: f64 = 0.3;
+
+/// The wave friction factor `f_w` of a rough bed of grains `d50` m under an orbital velocity
+/// amplitude `u_w` m/s of period `period` s: `f_w = 1.39 (A / z0)^-0.52`, `A = U_w T / (2 pi)`,
+/// `z0 = d50 / 12` (Soulsby 1997, Eq. 60a), at most [`WAVE_FRICTION_MAX`]; 0 without a wave.
+pub fn wave_friction_factor(u_w: f64, period: f64, d50: f64) -> f64 {
+    let a = u_w * period / (2.0 * std::f64::consts::PI);
+    if a <= 0.0 || d50 <= 0.0 {
+        return 0.0;
+    }
+    (1.39 * (a / (d50 / 12.0)).powf(-0.52)).min(WAVE_FRICTION_MAX)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -195,5 +214,20 @@ mod tests {
             let e = SurfaceWave::new(h, t, d).unwrap_err().to_string();
             assert!(e.contains(name), "{e}");
         }
+    }
+
+    #[test]
+    fn wave_friction_factor_soulsby_eq_60a() {
+        // A = 0.4 m/s x pi s / (2 pi) = 0.2 m over 0.3 mm sand: z0 = 25 um, A / z0 = 8000,
+        // f_w = 1.39 x 8000^-0.52 = 0.01299
+        let f = wave_friction_factor(0.4, PI, 0.3e-3);
+        assert!((f - 0.012_99).abs() < 1e-5, "{f}");
+        // the same law in the roughness ks = 2.5 d50 (z0 = ks / 30): 0.237 (A / ks)^-0.52
+        let ks: f64 = 2.5 * 0.3e-3;
+        assert!((f - 0.237 * (0.2 / ks).powf(-0.52)).abs() < 1e-5);
+        // longer excursions rub less; a few grain roughnesses hit the upper limit
+        assert!(wave_friction_factor(0.4, 2.0 * PI, 0.3e-3) < f);
+        assert_eq!(wave_friction_factor(0.001, 0.1, 0.3e-3), WAVE_FRICTION_MAX);
+        assert_eq!(wave_friction_factor(0.0, 8.0, 0.3e-3), 0.0);
     }
 }
