@@ -840,3 +840,34 @@ fn flow_frame_keeps_its_lattice_when_the_current_changes() {
     g.set_current(0.3, 40.0).unwrap();
     assert_eq!(g.params().current_angle, 40.0);
 }
+
+/// A 2-D section run at 180 deg flows towards -x: its lee and stoss faces are measured along
+/// that flow, so they keep their sides (lee steeper than stoss, symmetry index above 1) as at
+/// 0 deg.
+#[test]
+fn two_d_section_at_180_deg_keeps_lee_and_stoss() {
+    for angle in [0.0, 180.0] {
+        let (mut lee, mut stoss, mut sym) = (0.0, 0.0, 0.0);
+        for seed in 1..=3 {
+            let p = RippleParams {
+                mode: Mode::TwoD,
+                nx: 400,
+                ny: 1,
+                steps: 3000,
+                current_angle: angle,
+                seed,
+                ..RippleParams::default()
+            };
+            let mut r = Ripple::new(&p).unwrap();
+            r.run(p.steps, |_| {});
+            let a = Analysis::of(&r);
+            lee += a.lee_slope_deg / 3.0;
+            stoss += a.stoss_slope_deg / 3.0;
+            sym += a.symmetry_index / 3.0;
+        }
+        assert!(
+            lee > 1.8 * stoss && sym > 1.2,
+            "{angle} deg: lee {lee:.1}, stoss {stoss:.1}, symmetry index {sym:.2}"
+        );
+    }
+}

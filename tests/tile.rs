@@ -442,25 +442,18 @@ fn generated_tiles_are_toroidal_runs() {
     assert_eq!(t[1].elevation, e);
 }
 
-/// A tile keeps its ripple run's frame: from a flow-frame run (the default) its current runs
-/// along its own x axis, which points along the current; from a grid-frame run its x axis
-/// points east and its current crosses it. Both survive a NetCDF file, and a pool mixing the
-/// two is refused by name.
+/// A tile keeps its ripple run's frame: from a flow-frame run (the default) its flow runs
+/// along its own x axis, which points along the dominant flow (the waves' for a wave run);
+/// from a grid-frame run its x axis points east and its current crosses it. Both survive a
+/// NetCDF file (with the waves' angle and friction factor), and a pool mixing the two is
+/// refused by name; axes that differ by whole turns are the same.
 #[test]
 fn tiles_keep_the_frame_of_their_run() {
+    use cellsurf::ripple::input::read;
     use cellsurf::ripple::output::{run_recording, write_netcdf};
     use cellsurf::ripple::{Format, Frame, OutputSpec};
     use cellsurf::tile::tileset::{check_pool, tiles_from_file};
-    let tile_of = |frame: Frame, name: &str| {
-        let p = RippleParams {
-            nx: 24,
-            ny: 12,
-            layers: 6,
-            steps: 20,
-            current_angle: 30.0,
-            frame,
-            ..RippleParams::default()
-        };
+    let tile_of = |p: RippleParams, name: &str| {
         let mut r = Ripple::new(&p).unwrap();
         let snaps = run_recording(&mut r, 20, &[20], |_| {});
         let mem = Tile::from_ripple(&r, None, name);
@@ -470,23 +463,60 @@ fn tiles_keep_the_frame_of_their_run() {
             format: Format::NetCdf,
         };
         write_netcdf(&path, &r, &snaps, &spec).unwrap();
+        assert_eq!(
+            read(&path).unwrap().params,
+            p,
+            "{name}: parameters read back"
+        );
         let file = tiles_from_file(&path, None, None).unwrap().remove(0);
         assert_eq!(
             (file.current_angle, file.x_axis_deg),
             (mem.current_angle, mem.x_axis_deg),
-            "{frame:?}"
+            "{name}"
         );
         assert_eq!(file.elevation, mem.elevation);
         mem
     };
-    let flow = tile_of(Frame::Flow, "flow.nc");
+    let current = RippleParams {
+        nx: 24,
+        ny: 12,
+        layers: 6,
+        steps: 20,
+        current_angle: 30.0,
+        ..RippleParams::default()
+    };
+    let flow = tile_of(current.clone(), "flow.nc");
     assert_eq!((flow.current_angle, flow.x_axis_deg), (0.0, 30.0));
-    let grid = tile_of(Frame::Grid, "grid.nc");
+    let grid = tile_of(
+        RippleParams {
+            frame: Frame::Grid,
+            ..current.clone()
+        },
+        "grid.nc",
+    );
     assert_eq!((grid.current_angle, grid.x_axis_deg), (30.0, 0.0));
+    // waves alone at 80 deg: the lattice along the waves
+    let waves = tile_of(
+        RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.3,
+            wave_period: 40.0,
+            wave_angle: Some(80.0),
+            wave_friction_factor: 0.015,
+            ..current.clone()
+        },
+        "waves.nc",
+    );
+    assert_eq!((waves.current_angle, waves.x_axis_deg), (0.0, 80.0));
     let e = check_pool(&[flow.clone(), grid]).unwrap_err().to_string();
     assert!(
         e.contains("x axis at 0 deg from east, first at 30 deg"),
         "{e}"
     );
-    assert!(check_pool(&[flow.clone(), flow]).is_ok());
+    assert!(check_pool(&[flow.clone(), flow.clone()]).is_ok());
+    let turned = Tile {
+        x_axis_deg: 30.0 - 360.0,
+        ..flow.clone()
+    };
+    assert!(check_pool(&[flow, turned]).is_ok());
 }

@@ -86,8 +86,8 @@ pub struct Args {
     /// Sorting sigma_phi, phi units, 0 to 2 [default: 0.5].
     #[arg(long)]
     sorting: Option<f64>,
-    /// Current direction, degrees counter-clockwise from +x, -360 to 360; 0 or 180 in 2d
-    /// [default: 0].
+    /// Current direction, degrees counter-clockwise from east, -360 to 360; 0 (+x) or 180 in
+    /// 2d [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// Current speed, m/s [default: 0.5].
@@ -119,7 +119,7 @@ pub struct Args {
     /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3].
     #[arg(long, allow_hyphen_values = true)]
     wave_friction_factor: Option<f64>,
-    /// Direction the waves propagate towards, degrees counter-clockwise from +x, -360 to 360;
+    /// Direction the waves propagate towards, degrees counter-clockwise from east, -360 to 360;
     /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
     wave_angle: Option<f64>,
@@ -258,6 +258,15 @@ fn params(a: &Args) -> Result<RippleParams> {
     // the waves' own bed friction, from their orbital excursion (seconds given here)
     if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {
         p.wave_friction_factor = wave_friction_factor(p.wave_amplitude, t, p.d50 * 1e-3);
+    } else if a.wave_period.is_none()
+        && a.wave_friction_factor.is_none()
+        && p.wave_friction_factor > 0.0
+        && (a.d50.is_some() || a.wave_amplitude.is_some())
+    {
+        conv::note(format_args!(
+            "warning: the scenario's wave_friction_factor = {} was set for its own d50 and waves; it is kept (give --wave-period in seconds to compute it anew from the orbital excursion, or --wave-friction-factor)",
+            p.wave_friction_factor
+        ));
     }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
@@ -378,7 +387,7 @@ pub fn run(a: Args) -> Result<()> {
     // with the same bed stress
     let wave_note = if p.wave_amplitude > 0.0 && p.wave_friction_factor > 0.0 {
         format!(
-            " and wave friction factor {:.4}, a current of {:.3} m/s for the bed stress",
+            " and wave friction factor {:.4}, rubbing like a current of {:.3} m/s",
             p.wave_friction_factor,
             p.wave_stress_amplitude()
         )
@@ -387,7 +396,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     match reg.regime {
         Regime::SheetFlow => bail!(
-            "--current-speed = {} m/s (with --wave-velocity {} m/s{wave_note}) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            "--current-speed = {} m/s (with waves of near-bed orbital velocity {} m/s{wave_note}) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
             p.current_speed,
             p.wave_amplitude,
             reg.shields,
@@ -395,8 +404,16 @@ pub fn run(a: Args) -> Result<()> {
             cellsurf::ripple::regime::THETA_SHEET_FLOW
         ),
         Regime::NoMotion => conv::note(format_args!(
-            "no motion: {} m/s gives a Shields number of {:.3} on d50 = {} mm, below the threshold {:.3} (ripples from {lo:.3} m/s): the bed is left as it is",
-            reg.speed, reg.shields, p.d50, reg.shields_critical
+            "no motion: the flow's largest speed{}, {:.3} m/s, gives a Shields number of {:.3} on d50 = {} mm, below the threshold {:.3} (ripples from {lo:.3} m/s): the bed is left as it is",
+            if p.wave_amplitude > 0.0 {
+                " (current and waves as a current of the same bed stress)"
+            } else {
+                ""
+            },
+            reg.speed,
+            reg.shields,
+            p.d50,
+            reg.shields_critical
         )),
         Regime::Ripples if reg.coarse => conv::note(format_args!(
             "d50 = {} mm is above {} mm: coarse sand forms no current ripples in nature (Soulsby 1997, Sect. 7.2); the model still applies its rules",
@@ -429,21 +446,17 @@ pub fn run(a: Args) -> Result<()> {
         (None, Some(c)) => c.step_s * p.wave_period,
         (None, None) => 0.0,
     };
-    let predicted = Prediction::of(p.d50, p.current_speed, p.wave_amplitude, wave_period_s);
-    // the flow's direction on the lattice (0 in the flow frame)
-    let flow_angle = if p.wave_amplitude > p.current_speed {
-        p.lattice_wave_angle().unwrap_or(p.lattice_current_angle())
-    } else {
-        p.lattice_current_angle()
-    };
+    let predicted = Prediction::of(p.d50, p.waves_dominate(), p.wave_amplitude, wave_period_s);
+    // the dominant flow's direction on the lattice (0 in the flow frame)
     let along = length_along(
         p.nx as f64 * p.bin_size,
         p.rows() as f64 * p.bin_size,
-        flow_angle,
+        p.lattice_flow_angle(),
     );
     if reg.regime == Regime::Ripples && along < 4.0 * predicted.wavelength {
         conv::note(format_args!(
-            "warning: the domain is {along:.3} m long along the flow ({flow_angle} deg), less than 4 wavelengths of the predicted ripple (4 x {:.3} m = {:.3} m, {}): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
+            "warning: the domain is {along:.3} m long along the flow ({} deg from east), less than 4 wavelengths of the predicted ripple (4 x {:.3} m = {:.3} m, {}): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
+            p.flow_angle(),
             predicted.wavelength,
             4.0 * predicted.wavelength,
             predicted.source

@@ -99,7 +99,15 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
         })?;
 
     let mut table = toml::Table::new();
-    let defaults = match toml::Value::try_from(RippleParams::default()) {
+    // Every key, with its type: the fields left out of files at their defaults (the waves'
+    // angle and friction factor, the frame) set to something else so that they are listed.
+    let every = RippleParams {
+        wave_angle: Some(0.0),
+        wave_friction_factor: 0.5,
+        frame: Frame::Grid,
+        ..RippleParams::default()
+    };
+    let defaults = match toml::Value::try_from(every) {
         Ok(toml::Value::Table(t)) => t,
         _ => toml::Table::new(),
     };

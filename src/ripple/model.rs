@@ -195,7 +195,7 @@ impl Ripple {
     }
 
     /// Changes the steady current from the next step on (an interactive run): `speed` in m/s,
-    /// 0..=10; `angle` in degrees counter-clockwise from +x, finite (a 2-D section uses its
+    /// 0..=10; `angle` in degrees counter-clockwise from east, finite (a 2-D section uses its
     /// sign along x only). In a 3-D run in the flow frame the lattice was turned with the
     /// starting flow, so its direction cannot change (start in the grid frame to turn the
     /// current during a run). Errors name the parameter and leave the run unchanged.
@@ -212,8 +212,9 @@ impl Ripple {
                 parameter: "current_angle",
                 value: shown(angle),
                 expected: format!(
-                    "{} deg: the flow frame's lattice was turned with the starting flow (start with frame = grid to turn the current during a run)",
-                    shown(self.p.current_angle)
+                    "a current that leaves the lattice as it is: the flow frame's lattice was turned with the starting flow, its x axis at {} deg from east, and this current would turn it to {} deg (start with frame = grid to turn the current during a run)",
+                    shown(self.p.frame_angle()),
+                    shown(p.frame_angle())
                 ),
             });
         }

@@ -563,13 +563,14 @@ pub fn write_npy(
     }
     let times: Vec<String> = snapshots.iter().map(|s| s.0.to_string()).collect();
     let json = format!(
-        "{{\n  \"cellsurf_version\": {},\n  \"model\": \"ripple\",\n  \"steps_done\": {},\n  \"automata\": {},\n  \"elevation_times\": [{}],\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"fill\": \"NaN above the bed\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",
+        "{{\n  \"cellsurf_version\": {},\n  \"model\": \"ripple\",\n  \"steps_done\": {},\n  \"automata\": {},\n  \"elevation_times\": [{}],\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"x_axis_direction_deg\": {},\n  \"fill\": \"NaN above the bed\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",
         json_string(VERSION),
         r.time(),
         r.automata(),
         times.join(", "),
         r.params().bin_size,
         r.params().layer_thickness,
+        r.params().frame_angle(),
         entries.join(",\n"),
         params.join(",\n")
     );

@@ -11,8 +11,8 @@
 //!   <https://doi.org/10.1029/93JC02726>: orbital, suborbital and anorbital ripples
 //!   ([`wiberg_harris`]).
 //!
-//! [`Prediction::of`] picks the predictor of the dominant flow: waves when their orbital
-//! velocity exceeds the current, the current otherwise.
+//! [`Prediction::of`] picks the predictor of the dominant flow: waves when their bed stress
+//! exceeds the current's ([`super::RippleParams::waves_dominate`]), the current otherwise.
 //!
 //! - Crest orientation in a flow whose direction varies (a current and waves at an angle):
 //!   D. M. Rubin and R. E. Hunter (1987), "Bedform alignment in directionally varying flows",
@@ -106,17 +106,17 @@ pub struct Prediction {
 }
 
 impl Prediction {
-    /// The prediction for median grain size `d50_mm` (mm) under a current of `current_speed`
-    /// m/s and waves of orbital velocity amplitude `wave_velocity` m/s and period
-    /// `wave_period_s` s (0: none): the waves' when `wave_velocity > current_speed`, the
-    /// current's otherwise.
+    /// The prediction for median grain size `d50_mm` (mm) under waves of orbital velocity
+    /// amplitude `wave_velocity` m/s and period `wave_period_s` s (0: none) and a current: the
+    /// waves' when `waves_dominate` ([`super::RippleParams::waves_dominate`]: their bed stress
+    /// is the larger), the current's otherwise.
     pub fn of(
         d50_mm: f64,
-        current_speed: f64,
+        waves_dominate: bool,
         wave_velocity: f64,
         wave_period_s: f64,
     ) -> Prediction {
-        if wave_velocity > current_speed && wave_period_s > 0.0 {
+        if waves_dominate && wave_period_s > 0.0 {
             let d0 = wave_velocity * wave_period_s / std::f64::consts::PI;
             let (wavelength, height, regime) = wiberg_harris(d0, d50_mm * 1e-3);
             Prediction {
@@ -266,14 +266,30 @@ mod tests {
 
     #[test]
     fn prediction_follows_the_dominant_flow() {
-        let c = Prediction::of(0.2, 0.5, 0.0, 0.0);
+        let c = Prediction::of(0.2, false, 0.0, 0.0);
         assert_eq!(c.source, "Soulsby & Whitehouse (2005)");
         // U_w = 0.4 m/s, T = pi s: d0 = 0.4 m
-        let w = Prediction::of(0.3, 0.1, 0.4, std::f64::consts::PI);
+        let w = Prediction::of(0.3, true, 0.4, std::f64::consts::PI);
         assert_eq!(w.source, "Wiberg & Harris (1994), orbital");
         assert!((w.wavelength - 0.248).abs() < 1e-12, "{}", w.wavelength);
-        // a weaker wave leaves the current's prediction
-        assert_eq!(Prediction::of(0.2, 0.5, 0.3, 8.0), c);
+        // waves that do not dominate leave the current's prediction
+        assert_eq!(Prediction::of(0.2, false, 0.3, 8.0), c);
+        // which flow dominates is told by the bed stress: 0.25 m/s of waves with their own
+        // friction outweigh a current of 0.3 m/s
+        let p = crate::ripple::RippleParams {
+            current_speed: 0.3,
+            wave_amplitude: 0.25,
+            wave_period: 100.0,
+            ..crate::ripple::RippleParams::default()
+        };
+        assert!(!p.waves_dominate());
+        assert!(
+            crate::ripple::RippleParams {
+                wave_friction_factor: 0.0083,
+                ..p
+            }
+            .waves_dominate()
+        );
     }
 
     #[test]

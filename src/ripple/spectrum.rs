@@ -178,11 +178,9 @@ impl Analysis {
         let crest_normal_deg = (lattice_normal + p.frame_angle()).rem_euclid(180.0);
         let smooth = moore_average(r, &elev);
         let (mean, sd) = mean_std(&smooth);
-        let theta = if ny == 1 {
-            0.0
-        } else {
-            p.lattice_current_angle().to_radians()
-        };
+        // profiles along the dominant flow on the lattice (towards -x for a 2-D section run at
+        // 180 deg, so that lee and stoss keep their sides)
+        let theta = p.lattice_flow_angle().to_radians();
         let f = faces(&elev, nx, ny, dx, p.layer_thickness, theta);
         let vol = r.volume();
         let k = r.classes().len();

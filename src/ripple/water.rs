@@ -380,6 +380,8 @@ mod tests {
             wave_amplitude: 0.4,
             wave_period: 8.0,
             wave_angle: Some(90.0),
+            // the lattice's x axis east (in the flow frame it would follow the waves)
+            frame: crate::ripple::Frame::Grid,
             ..RippleParams::default()
         };
         for t in 0..8u64 {

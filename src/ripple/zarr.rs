@@ -135,6 +135,9 @@ pub fn write_zarr(
     group.insert("automata".into(), Value::from(r.automata()));
     group.insert("bin_size_m".into(), Value::from(p.bin_size));
     group.insert("layer_thickness_m".into(), Value::from(p.layer_thickness));
+    // the direction of the x axis, degrees counter-clockwise from east (the flow frame turns
+    // the lattice with the flow)
+    group.insert("x_axis_direction_deg".into(), Value::from(p.frame_angle()));
     for (k, v) in toml_pairs(p) {
         group.insert(format!("param_{k}"), toml_to_json(&v));
     }

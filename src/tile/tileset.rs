@@ -29,8 +29,8 @@ pub struct Tile {
     pub bin_size: f64,
     /// Height of one automaton, m.
     pub layer_thickness: f64,
-    /// Direction of the current that shaped the tile, degrees counter-clockwise from the
-    /// tile's own +x axis (0 for a ripple run in the flow frame, whose x axis is the current).
+    /// Direction of the (dominant) flow that shaped the tile, degrees counter-clockwise from
+    /// the tile's own +x axis (0 for a ripple run in the flow frame, whose x axis is that flow).
     pub current_angle: f64,
     /// Direction of the tile's +x axis, degrees counter-clockwise from east (the ripple run's
     /// `x_axis_direction_deg`: 0 in the grid frame, the flow's direction in the flow frame).
@@ -84,7 +84,7 @@ impl Tile {
             ny,
             bin_size: p.bin_size,
             layer_thickness: p.layer_thickness,
-            current_angle: p.lattice_current_angle(),
+            current_angle: p.lattice_flow_angle(),
             x_axis_deg: p.frame_angle(),
             elevation: r.elevation().iter().map(|&v| v as f32).collect(),
             volume,
@@ -202,7 +202,8 @@ pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
                 t.nx, t.ny, first.nx, first.ny
             )));
         }
-        if t.x_axis_deg != first.x_axis_deg {
+        let turn = (t.x_axis_deg - first.x_axis_deg).rem_euclid(360.0);
+        if turn > 1e-9 && turn < 360.0 - 1e-9 {
             return Err(bad(format!(
                 "x axis at {} deg from east, first at {} deg (ripple runs in the flow frame turn \
                  their lattice with the flow: run the tiles with one flow direction, or with \
@@ -308,7 +309,7 @@ pub fn tiles_from_file(
                 ny: f.ny,
                 bin_size: f.bin_size,
                 layer_thickness: f.layer_thickness,
-                current_angle: f.params.lattice_current_angle(),
+                current_angle: f.params.lattice_flow_angle(),
                 x_axis_deg: f.params.frame_angle(),
                 elevation: f.elevation[i].clone(),
                 volume: volume.clone(),
