@@ -60,6 +60,9 @@ pub struct Ripple {
     pub(crate) alpha_layers: [f64; 2],
     /// Stoss stability threshold in automata, axial and diagonal (tan beta dx / gd).
     pub(crate) beta_layers: [f64; 2],
+    /// Whether the stoss cap acts: the current dominates ([`RippleParams::waves_dominate`],
+    /// computed once rather than per roll).
+    pub(crate) stoss_capped: bool,
     /// Creep threshold gamma Delta s in automata (tan gamma dx / gd).
     pub(crate) gamma_layers: f64,
     pub(crate) stack: Vec<u32>,
@@ -150,6 +153,7 @@ impl Ripple {
             stats: RippleStats::default(),
             alpha_layers: [t(p.avalanche_angle), t(p.avalanche_angle) * sq2],
             beta_layers: [t(p.stoss_angle), t(p.stoss_angle) * sq2],
+            stoss_capped: !p.waves_dominate(),
             gamma_layers: t(p.creep_angle),
             stack: Vec::new(),
             path: Vec::new(),
@@ -218,6 +222,7 @@ impl Ripple {
                 ),
             });
         }
+        self.stoss_capped = !p.waves_dominate();
         self.p = p;
         Ok(())
     }

@@ -309,8 +309,7 @@ impl Ripple {
         // The stoss cap (beta, "the maximum slope of the stoss side"): a grain does not come
         // to rest where it would make the rise from the column upstream steeper than beta; it
         // rests at the last column of its path where it would not (the foot of the rise).
-        let capped = !self.p.waves_dominate();
-        while capped && hops > 0 && self.stoss_too_steep(p, k, c) {
+        while self.stoss_capped && hops > 0 && self.stoss_too_steep(p, k, c) {
             p = path.pop().expect("one column per hop") as usize;
             hops -= 1;
         }
