@@ -197,3 +197,132 @@ fn unknown_extension_and_wrong_scenario_model_are_refused_by_name() {
     assert_eq!(out.status.code(), Some(1));
     assert!(err.contains("'cursor' scenario, not 'dunes'"), "{err}");
 }
+
+/// Every output of a run is moved into place only when the whole run succeeded: a run that
+/// fails on its last output leaves none of the others (and no temporary file).
+#[test]
+fn a_run_that_fails_late_leaves_none_of_its_outputs() {
+    let dir = tmp_in("conventions", "late_failure");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // The .npy's sidecar is in the way: found only when the sidecar is written, after the
+    // .npy and the .png were finished.
+    std::fs::create_dir_all(dir.join("s.json")).unwrap();
+    let npy = dir.join("s.npy");
+    let png = dir.join("s.png");
+    let out = cellsurf(&[
+        "wind-ripples",
+        "--size",
+        "8",
+        "--particles",
+        "100",
+        "--steps",
+        "3",
+        "--out",
+        npy.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("s.json"), "{err}");
+    assert!(err.contains("no output was written"), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, vec!["s.json".to_string()], "{err}");
+    // The same run with the way clear writes all three.
+    std::fs::remove_dir(dir.join("s.json")).unwrap();
+    let out = cellsurf(&[
+        "wind-ripples",
+        "--size",
+        "8",
+        "--particles",
+        "100",
+        "--steps",
+        "3",
+        "--out",
+        npy.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert!(npy.is_file() && png.is_file() && dir.join("s.json").is_file());
+}
+
+/// A reader that closes standard output early (`| head`) ends the run quietly: exit 0, no
+/// panic, and the outputs are still written.
+#[test]
+fn a_closed_standard_output_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let dir = tmp_in("conventions", "closed_stdout");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("g.csv");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args([
+            "grow",
+            "--size",
+            "64",
+            "--steps",
+            "1e5",
+            "--json",
+            "--out",
+            csv.to_str().unwrap(),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the reading end before the run prints anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(csv.is_file());
+}
+
+/// Two outputs of one run may not share a path, and an old single-format option names its
+/// format by the extension too.
+#[test]
+fn two_outputs_with_one_path_are_refused() {
+    let dir = tmp_in("conventions", "same_path");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let w = dir.join("w.png");
+    let out = cellsurf(&[
+        "cursor",
+        "--size",
+        "16",
+        "--steps",
+        "100",
+        "--out",
+        w.to_str().unwrap(),
+        "--save-wind",
+        w.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--save-wind") && err.contains("same file"),
+        "{err}"
+    );
+    assert!(!w.exists());
+    let x = dir.join("same.x");
+    let out = cellsurf(&[
+        "grow",
+        "--size",
+        "32",
+        "--steps",
+        "100",
+        "--csv",
+        x.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--csv") && err.contains(".csv"), "{err}");
+    assert!(!x.exists());
+}

@@ -377,9 +377,35 @@ impl Outputs {
                     f.ext()
                 );
             }
+            // Before any work: a missing folder, or a path that is not a file (a Zarr store is
+            // a folder: what an existing one holds is checked where it is written).
+            if f == Format::Zarr {
+                let dir = match p.parent() {
+                    Some(d) if !d.as_os_str().is_empty() => d,
+                    _ => Path::new("."),
+                };
+                if !dir.is_dir() {
+                    bail!("{flag} {}: the folder does not exist", p.display());
+                }
+            } else {
+                cellsurf::engine::io::check_output(&flag, p)?;
+            }
             files.push((f, p.clone()));
         }
         Ok(Outputs { files })
+    }
+
+    /// Refuses `p` (given by `option`) when another output of this run has the same path:
+    /// one would overwrite the other.
+    pub fn check_distinct(&self, option: &str, p: &Path) -> Result<()> {
+        if let Some((_, q)) = self.files.iter().find(|(_, q)| same_path(q, p)) {
+            bail!(
+                "{option} {}: the same file as the output {}; give each output its own name",
+                p.display(),
+                q.display()
+            );
+        }
+        Ok(())
     }
 
     /// The file of this format, if one was asked for.
@@ -394,21 +420,51 @@ impl Outputs {
     /// none yet.
     pub fn add_legacy(&mut self, f: Format, p: Option<&PathBuf>) -> Result<()> {
         if let Some(p) = p {
+            let option = format!("--{}", f.ext());
             if self.get(f).is_some() {
                 bail!("two .{} outputs given: one per run", f.ext());
             }
+            if Format::of(p) != Some(f) {
+                bail!(
+                    "{option} {}: the file name must end in .{} (or give it to --out, where the \
+                     extension picks the format)",
+                    p.display(),
+                    f.ext()
+                );
+            }
+            self.check_distinct(&option, p)?;
+            cellsurf::engine::io::check_output(&option, p)?;
             self.files.push((f, p.clone()));
         }
         Ok(())
     }
 }
 
+/// Whether two output paths name the same file (as written, or once made absolute).
+fn same_path(a: &Path, b: &Path) -> bool {
+    if a == b {
+        return true;
+    }
+    let abs = |p: &Path| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        dir.canonicalize()
+            .ok()
+            .zip(p.file_name())
+            .map(|(d, n)| d.join(n))
+    };
+    matches!((abs(a), abs(b)), (Some(x), Some(y)) if x == y)
+}
+
 /// Keys of the argument structure that are about input and output, not the model: never
 /// read from nor written to a scenario file.
-pub const IO_KEYS: [&str; 14] = [
+pub const IO_KEYS: [&str; 15] = [
     "scenario",
     "print_scenario",
     "out",
+    "save_wind",
     "json",
     "quiet",
     "gif",

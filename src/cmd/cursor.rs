@@ -313,10 +313,21 @@ pub fn run(a: Args) -> Result<()> {
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "cursor")?;
     if a.print_scenario {
-        print!("{}", conv::scenario_text(&a, "cursor")?);
+        out!("{}", conv::scenario_text(&a, "cursor")?)?;
         return Ok(());
     }
     let outs = Outputs::new(&a.out, "cursor", &[Format::Png])?;
+    if let Some(p) = &a.save_wind {
+        if Format::of(p) != Some(Format::Png) {
+            bail!(
+                "--save-wind {}: the wind field is saved as a PNG image, so the file name must \
+                 end in .png",
+                p.display()
+            );
+        }
+        outs.check_distinct("--save-wind", p)?;
+        cellsurf::engine::io::check_output("--save-wind", p)?;
+    }
     let size = a.size.map(|s| (s.w, s.h));
     if a.steps == 0 || a.steps > MAX_STEPS {
         bail!(
@@ -346,7 +357,8 @@ pub fn run(a: Args) -> Result<()> {
             if let Some(f) = generator_options(&a).first() {
                 bail!("{f} applies to --wind-field generators, not to a --wind-image");
             }
-            let field = WindField::from_png(path, size, a.wind_scale)?;
+            let field = WindField::from_png(path, size, a.wind_scale)
+                .with_context(|| format!("in --wind-image {}", path.display()))?;
             (field, Source::Image(path.clone()))
         }
         (None, g) => {

@@ -153,7 +153,7 @@ pub fn run(a: Args) -> Result<()> {
     let a = conv::merge_scenario(a, scenario.as_deref(), "dunes")?;
     let cfg = config(&a)?;
     if a.print_scenario {
-        print!("{}", conv::scenario_text(&a, "dunes")?);
+        out!("{}", conv::scenario_text(&a, "dunes")?)?;
         return Ok(());
     }
     let mut outs = Outputs::new(&a.out, "dunes", &[Format::Png, Format::Gif])?;
@@ -240,25 +240,28 @@ pub fn run(a: Args) -> Result<()> {
             "config": cfg,
         });
         let v = conv::envelope("dunes", conv::scenario_table(&a)?, elapsed, own)?;
-        println!("{}", serde_json::to_string(&v)?);
+        outln!("{}", serde_json::to_string(&v)?)?;
     } else {
-        println!("cellsurf {VERSION} dunes: {}", describe(&cfg));
-        println!(
+        outln!("cellsurf {VERSION} dunes: {}", describe(&cfg))?;
+        outln!(
             "  iterations {} in {elapsed:.3} s ({rate:.0} iterations/s); picks {picks}, of which {moves} moved sand",
             m.iteration()
-        );
-        println!(
+        )?;
+        outln!(
             "  dune bodies {} ({} spanning the grid), bare fraction {:.3} (h <= {} cell widths), largest body {:.1}% of the grid",
             s.dune_bodies,
             s.spanning_bodies,
             s.bare_fraction,
             s.threshold,
             100.0 * s.largest_body_fraction
-        );
-        println!(
+        )?;
+        outln!(
             "  heights {:.4} .. {:.4}, mean {:.4} cell widths; sand change {} grains (exact)",
-            s.min_height, s.max_height, s.mean_height, s.sand_change
-        );
+            s.min_height,
+            s.max_height,
+            s.mean_height,
+            s.sand_change
+        )?;
     }
     Ok(())
 }

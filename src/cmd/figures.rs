@@ -30,7 +30,7 @@ pub fn run(a: FiguresArgs) -> Result<()> {
     conv::set_quiet(a.quiet);
     if a.list {
         for f in figures::all() {
-            println!("{:24} {}", f.name, f.about);
+            outln!("{:24} {}", f.name, f.about)?;
         }
         return Ok(());
     }

@@ -51,7 +51,7 @@ pub struct GrowArgs {
     start: Option<f64>,
     /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca);
     /// whole numbers, `1e7` accepted. With --events or --until-occupied and no --steps the
-    /// clock has no limit (the rejection sampler stops at 2^53 picks).
+    /// exact sampler's clock has no limit; the rejection sampler needs --steps with them.
     #[arg(long, value_name = "N", value_parser = conv::parse_count, allow_negative_numbers = true)]
     steps: Option<u64>,
     /// Stop after N accepted events (cells added), `1e5` accepted: reaches stiff cases
@@ -86,7 +86,7 @@ pub struct GrowArgs {
     /// Old spelling of `--out FILE.gif` (kept for one release).
     #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
-    /// Frames in the GIF, 1 to 2000.
+    /// Frames in the GIF after the initial state (which the GIF also shows), 1 to 2000.
     #[arg(long, default_value_t = 60)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
@@ -277,12 +277,16 @@ fn gather_parts(dir: &Path, seeds: usize) -> Result<Vec<converge::RunRecord>> {
 
 /// The configuration: scenario file or scene defaults, then each given option.
 fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
+    // Whether the snapshots are the user's (from the scenario file), not the defaults.
+    let mut scenario_snapshots = false;
     let mut c = match &a.scenario {
         Some(p) => {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read --scenario {}", p.display()))?;
-            let c = SceneConfig::from_toml(&text)
+            // Checked once the command line has overridden it (below).
+            let (c, snaps) = SceneConfig::parse_toml(&text)
                 .with_context(|| format!("in --scenario {}", p.display()))?;
+            scenario_snapshots = snaps;
             // `grow` runs any scene's scenario; a named scene runs only its own.
             if c.scene != scene && scene != SceneKind::Grow {
                 bail!(
@@ -343,11 +347,8 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if let Some(v) = a.steps {
         c.steps = v;
         // Default snapshots that no longer fit are thinned to those within the run.
-        if a.snapshots.is_none() && a.scenario.is_none() {
-            c.snapshots.retain(|&t| t <= v);
-            if c.snapshots.last() != Some(&v) {
-                c.snapshots.push(v);
-            }
+        if a.snapshots.is_none() && !scenario_snapshots {
+            c.fit_snapshots_to_steps();
         }
     }
     if let Some(v) = &a.snapshots {
@@ -443,7 +444,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     let cfg = config(scene, &a)?;
     let scene = cfg.scene;
     if a.print_scenario {
-        print!("{}", cfg.to_toml());
+        out!("{}", cfg.to_toml())?;
         return Ok(());
     }
     let mut outs = Outputs::new(
@@ -453,6 +454,17 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     )?;
     outs.add_legacy(Format::Csv, a.csv.as_ref())?;
     outs.add_legacy(Format::Gif, a.gif.as_ref())?;
+    let by_events = cfg.events.is_some() || cfg.until_occupied.is_some();
+    // A clock-stopped run draws its snapshots only (an event-stopped one its final state too).
+    if let Some(p) = outs.get(Format::Png) {
+        if cfg.snapshots.is_empty() && !by_events {
+            bail!(
+                "{} {} needs at least one snapshot (--snapshots)",
+                conv::typed_flag("out").unwrap_or_else(|| "--out".into()),
+                p.display()
+            );
+        }
+    }
     let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
@@ -472,7 +484,6 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         )?),
         None => None,
     };
-    let by_events = cfg.events.is_some() || cfg.until_occupied.is_some();
     let frames = if gif.is_some() && !by_events {
         let k = a.gif_frames.max(1) as u64;
         (0..=k)
@@ -531,9 +542,9 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         conv::wrote(p);
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary(&r)?)?);
+        outln!("{}", serde_json::to_string(&summary(&r)?)?)?;
     } else {
-        print_summary(&r);
+        print_summary(&r)?;
     }
     Ok(())
 }
@@ -573,17 +584,28 @@ fn summary(r: &RunResult) -> Result<serde_json::Value> {
     conv::envelope("growth", c, r.elapsed_s, v)
 }
 
-fn print_summary(r: &RunResult) {
+fn print_summary(r: &RunResult) -> Result<()> {
     let c = &r.config;
-    println!(
+    outln!(
         "cellsurf {VERSION}: {} on {}",
         c.scene,
         figures::describe(c)
-    );
-    println!(
-        "  timesteps {}  accepted {}  occupied {}  surface sites {}  ({:?})",
-        r.last.time, r.last.accepted, r.last.occupied, r.last.surface, r.stop
-    );
+    )?;
+    // The clock as a whole number while it is exact, else to 7 digits, else by its log.
+    let clock = if r.clock_exact {
+        format!("{}", r.last.time)
+    } else if r.last.time.is_finite() {
+        format!("{:.6e} (rounded)", r.last.time)
+    } else {
+        format!("10^{:.4} (past the largest f64)", r.log10_clock)
+    };
+    outln!(
+        "  timesteps {clock}  accepted {}  occupied {}  surface sites {}  ({:?})",
+        r.last.accepted,
+        r.last.occupied,
+        r.last.surface,
+        r.stop
+    )?;
     let v = r.last.values;
     for (name, x) in [
         ("front_radius_cv", v.front_radius_cv),
@@ -592,10 +614,11 @@ fn print_summary(r: &RunResult) {
         ("mean_elevation", v.mean_elevation),
     ] {
         if let Some(x) = x {
-            println!("  {name} = {x:.4}");
+            outln!("  {name} = {x:.4}")?;
         }
     }
-    println!("  run {:.3} s, set-up {:.3} s", r.elapsed_s, r.setup_s);
+    outln!("  run {:.3} s, set-up {:.3} s", r.elapsed_s, r.setup_s)?;
+    Ok(())
 }
 
 fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
@@ -703,16 +726,21 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
             t0.elapsed().as_secs_f64(),
             serde_json::json!({ "curves": curves }),
         )?;
-        println!("{}", serde_json::to_string(&v)?);
+        outln!("{}", serde_json::to_string(&v)?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "{:14} {:10} {:20} {:>10} {:>12} {:>12}",
-        "case", "sampler", "observable", "mean", "std error", "run time s"
-    );
+        "case",
+        "sampler",
+        "observable",
+        "mean",
+        "std error",
+        "run time s"
+    )?;
     for c in &curves {
         if let Some(p) = c.points.last() {
-            println!(
+            outln!(
                 "{:14} {:10} {:20} {:>10.5} {:>12.3e} {:>12.3}",
                 c.label,
                 c.sampler.name(),
@@ -720,7 +748,7 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
                 p.mean,
                 p.std_error,
                 p.cpu_s
-            );
+            )?;
         }
     }
     Ok(())

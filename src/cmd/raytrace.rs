@@ -312,7 +312,7 @@ pub fn run(a: Args) -> Result<()> {
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
     if a.print_scenario {
-        print!("{}", conv::scenario_text(&a, "raytrace")?);
+        out!("{}", conv::scenario_text(&a, "raytrace")?)?;
         return Ok(());
     }
     let mut outs = Outputs::new(&a.out, "raytrace", &[Format::Csv, Format::Bty])?;
@@ -461,9 +461,9 @@ pub fn run(a: Args) -> Result<()> {
             },
         });
         let v = conv::envelope("raytrace", conv::scenario_table(&a)?, elapsed, own)?;
-        println!("{}", serde_json::to_string(&v)?);
+        outln!("{}", serde_json::to_string(&v)?)?;
     } else {
-        println!(
+        outln!(
             "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} % of {floor_m:.2} m ({lit_m:.2} m lit, {} lit stretches), shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
             fl.len(),
             ins.rays,
@@ -477,7 +477,7 @@ pub fn run(a: Args) -> Result<()> {
             spans.iter().filter(|s| s.lit).count(),
             (1.0 - lit) * 100.0,
             ins.max_snell_drift
-        );
+        )?;
     }
     Ok(())
 }

@@ -319,11 +319,11 @@ pub fn run(a: Args) -> Result<()> {
             };
             to_steps(&a, &mut p, clock.as_ref())?;
         }
-        print!(
+        out!(
             "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\nmodel = \"ripple\"\n{}",
             cellsurf::ripple::VERSION,
             p.to_toml()
-        );
+        )?;
         return Ok(());
     }
     let outs = match a.format {
@@ -598,9 +598,9 @@ pub fn run(a: Args) -> Result<()> {
             o.extend(w);
         }
         let v = conv::envelope("ripple", &p, elapsed, own)?;
-        println!("{}", serde_json::to_string(&v)?);
+        outln!("{}", serde_json::to_string(&v)?)?;
     } else {
-        println!(
+        outln!(
             "ripple: {} steps ({}), {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
             s.steps,
             match clock {
@@ -619,7 +619,7 @@ pub fn run(a: Args) -> Result<()> {
             an.d50_crest_mm,
             an.d50_trough_mm,
             r.mass_change()
-        );
+        )?;
     }
     Ok(())
 }

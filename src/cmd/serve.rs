@@ -38,7 +38,7 @@ pub fn run(a: Args) -> Result<()> {
             .with_context(|| format!("cannot listen on --host {} --port {}", a.host, a.port))?;
         let bound = listener.local_addr()?;
         let url = format!("http://{bound}/");
-        println!("cellsurf serve: listening on {url}");
+        outln!("cellsurf serve: listening on {url}")?;
         std::io::stdout().flush().ok();
         if a.open {
             open_browser(&url);

@@ -326,7 +326,7 @@ pub fn run(a: Args) -> Result<()> {
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "tile")?;
     if a.print_scenario {
-        print!("{}", conv::scenario_text(&a, "tile")?);
+        out!("{}", conv::scenario_text(&a, "tile")?)?;
         return Ok(());
     }
     let start = Instant::now();
@@ -619,10 +619,10 @@ pub fn run(a: Args) -> Result<()> {
     };
     if a.dry_run {
         if a.json {
-            println!("{}", envelope(summary(None, 0, 0.0))?);
+            outln!("{}", envelope(summary(None, 0, 0.0))?)?;
         } else {
             conv::note("dry run: nothing written");
-            println!("{estimate}");
+            outln!("{estimate}")?;
         }
         return Ok(());
     }
@@ -663,11 +663,11 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(p);
     }
     if a.json {
-        println!("{}", envelope(summary(Some(&seams), bytes, elapsed))?);
+        outln!("{}", envelope(summary(Some(&seams), bytes, elapsed))?)?;
     } else {
         let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}", x * 1e3));
         let r = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.2}"));
-        println!(
+        outln!(
             "seams (mean |jump|, mm): x inside {} across {} (ratio {}), y inside {} across {} (ratio {})",
             f(seams.x.inside),
             f(seams.x.across),
@@ -675,35 +675,35 @@ pub fn run(a: Args) -> Result<()> {
             f(seams.y.inside),
             f(seams.y.across),
             r(seams.y.ratio())
-        );
+        )?;
         if let Some(s) = seams.slope {
-            println!(
+            outln!(
                 "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
                 s.max_deg,
                 s.rms_deg,
                 100.0 * s.above_repose
-            );
+            )?;
         }
         if let Some(s) = dune_slopes {
-            println!(
+            outln!(
                 "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
                 s.max_deg,
                 s.rms_deg,
                 100.0 * s.above_repose
-            );
+            )?;
         }
         if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
-            println!(
+            outln!(
                 "dune spectrum slope {s:.2} (requested {:.2})",
                 -(2.0 * hurst + 2.0)
-            );
+            )?;
         }
-        println!(
+        outln!(
             "{} in {elapsed:.2} s ({:.0} rows/s, {:.1} MB/s)",
             human(bytes),
             h as f64 / elapsed.max(1e-9),
             bytes as f64 / 1e6 / elapsed.max(1e-9)
-        );
+        )?;
     }
     Ok(())
 }
@@ -751,7 +751,7 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
         if let Some(r) = &rerun {
             v["parts_to_rerun"] = serde_json::json!(r);
         }
-        println!("{}", serde_json::to_string(&v)?);
+        outln!("{}", serde_json::to_string(&v)?)?;
     } else {
         for arr in &c.arrays {
             eprintln!(
@@ -817,10 +817,10 @@ fn write_store(
             conv::wrote(out);
             let mut v = summary(None, 0, el);
             v["zarr"] = serde_json::json!({ "layout": layout, "init": true });
-            println!("{}", envelope(v)?);
+            outln!("{}", envelope(v)?)?;
         } else {
             conv::wrote(out);
-            println!(
+            outln!(
                 "initialised {}: {} x {} chunks of {} x {} bins ({} x {} tiles)",
                 out.display(),
                 layout.grid.0,
@@ -829,7 +829,7 @@ fn write_store(
                 layout.chunk.1,
                 layout.tiles.0,
                 layout.tiles.1
-            );
+            )?;
         }
         return Ok(());
     }
@@ -857,10 +857,10 @@ fn write_store(
         conv::wrote(out);
         let mut v = summary(None, rep.bytes, el);
         v["zarr"] = serde_json::to_value(&rep)?;
-        println!("{}", envelope(v)?);
+        outln!("{}", envelope(v)?)?;
     } else {
         conv::wrote(out);
-        println!(
+        outln!(
             "{} part {}/{}: {} of {} chunks written ({} kept), {} of values as {} in {el:.2} s ({:.1} MB/s of values)",
             out.display(),
             part.index,
@@ -871,7 +871,7 @@ fn write_store(
             human(rep.bytes),
             human(rep.stored_bytes),
             rep.bytes as f64 / 1e6 / el.max(1e-9)
-        );
+        )?;
     }
     Ok(())
 }

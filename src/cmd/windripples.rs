@@ -137,7 +137,7 @@ pub fn run(a: Args) -> Result<()> {
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "wind-ripples")?;
     if a.print_scenario {
-        print!("{}", conv::scenario_text(&a, "wind-ripples")?);
+        out!("{}", conv::scenario_text(&a, "wind-ripples")?)?;
         return Ok(());
     }
     let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
@@ -227,26 +227,26 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(&side_path);
     }
     if a.json {
-        println!("{}", serde_json::to_string(&summary(&a, &r, threads)?)?);
+        outln!("{}", serde_json::to_string(&summary(&a, &r, threads)?)?)?;
     } else {
         let s = &r.stats;
         let f = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3} bins"));
-        println!("wind ripples: {}", windripples::figures::describe(&params));
-        println!(
+        outln!("wind ripples: {}", windripples::figures::describe(&params))?;
+        outln!(
             "  {} steps ({} schedule) in {:.3} s on {threads} threads (set-up {:.3} s), {:.3e} particle-steps/s",
             params.steps,
             params.schedule,
             r.elapsed_s,
             r.setup_s,
             params.steps as f64 * params.particles as f64 / r.elapsed_s.max(1e-12)
-        );
-        println!(
+        )?;
+        outln!(
             "  height mean {:.6}, std {:.4}; dominant wavelength {}, mean wavelength {}",
             s.height_mean,
             s.height_std,
             f(s.wavelength_bins),
             f(s.mean_wavelength_bins)
-        );
+        )?;
     }
     Ok(())
 }

@@ -6,20 +6,129 @@
 //! by the `cellsurf` program on Ctrl-C or SIGTERM) deletes them. [`check_output`] refuses,
 //! before any work, an output whose folder is missing or that is not a regular file (a
 //! symbolic link, a device, a FIFO or a folder would be replaced by the rename).
+//!
+//! A run that writes several outputs can hold them all back ([`hold_outputs`]): finished
+//! temporaries are then moved into place together by [`publish_held`] once the whole run
+//! succeeded, or removed by [`discard_held`] when it failed, so that a failed run leaves none
+//! of its outputs (and every file it would have replaced as it was).
 
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// The temporary files being written now.
+/// The temporary files being written now (and finished ones held back).
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Whether finished outputs are held back until [`publish_held`].
+static HOLD: AtomicBool = AtomicBool::new(false);
+/// Finished outputs held back: (temporary, output).
+static HELD: Mutex<Vec<(PathBuf, PathBuf)>> = Mutex::new(Vec::new());
+
+/// From now on, finished outputs ([`TempFile::commit`], [`publish`]) stay in their
+/// temporaries until [`publish_held`] (or [`discard_held`]).
+pub fn hold_outputs() {
+    HOLD.store(true, Ordering::SeqCst);
+}
+
+/// Moves every held output into place, in the order they were finished, and stops holding.
+pub fn publish_held() -> io::Result<()> {
+    HOLD.store(false, Ordering::SeqCst);
+    let held = std::mem::take(&mut *HELD.lock().unwrap_or_else(|e| e.into_inner()));
+    let mut first_err = None;
+    for (tmp, out) in held {
+        let r = move_into_place(&tmp, &out);
+        if r.is_err() {
+            remove_path(&tmp);
+        }
+        forget_live(&tmp);
+        if let Err(e) = r {
+            first_err.get_or_insert(io::Error::new(
+                e.kind(),
+                format!("moving {} into place: {e}", out.display()),
+            ));
+        }
+    }
+    first_err.map_or(Ok(()), Err)
+}
+
+/// Removes every held output's temporary (the run failed) and stops holding; returns how many
+/// outputs were dropped.
+pub fn discard_held() -> usize {
+    HOLD.store(false, Ordering::SeqCst);
+    let held = std::mem::take(&mut *HELD.lock().unwrap_or_else(|e| e.into_inner()));
+    for (tmp, _) in &held {
+        remove_path(tmp);
+        forget_live(tmp);
+    }
+    held.len()
+}
+
+/// The length in bytes of the finished output `output`: of its held temporary while outputs
+/// are held, else of the file itself.
+pub fn output_len(output: &Path) -> io::Result<u64> {
+    let held = HELD.lock().ok().and_then(|h| {
+        h.iter()
+            .rev()
+            .find(|(_, o)| o == output)
+            .map(|(t, _)| t.clone())
+    });
+    fs::metadata(held.as_deref().unwrap_or(output)).map(|m| m.len())
+}
+
+/// Moves the finished temporary `tmp` (a file or a folder) onto `output`: at once, or, while
+/// outputs are held ([`hold_outputs`]), at [`publish_held`].
+pub fn publish(tmp: &Path, output: &Path) -> io::Result<()> {
+    if HOLD.load(Ordering::SeqCst) {
+        if let Ok(mut live) = LIVE.lock() {
+            if !live.iter().any(|p| p == tmp) {
+                live.push(tmp.to_path_buf());
+            }
+        }
+        if let Ok(mut held) = HELD.lock() {
+            held.push((tmp.to_path_buf(), output.to_path_buf()));
+        }
+        Ok(())
+    } else {
+        move_into_place(tmp, output)
+    }
+}
+
+/// Renames `tmp` onto `output`; an existing folder at `output` (a Zarr store written before)
+/// is moved aside first and removed after.
+fn move_into_place(tmp: &Path, output: &Path) -> io::Result<()> {
+    let is_dir = fs::symlink_metadata(output).is_ok_and(|m| m.is_dir());
+    if !is_dir {
+        return fs::rename(tmp, output);
+    }
+    let old = temp_path(output).with_extension("old");
+    let _ = fs::remove_dir_all(&old);
+    fs::rename(output, &old)?;
+    fs::rename(tmp, output)?;
+    let _ = fs::remove_dir_all(&old);
+    Ok(())
+}
+
+fn remove_path(p: &Path) {
+    if p.is_dir() {
+        let _ = fs::remove_dir_all(p);
+    } else {
+        let _ = fs::remove_file(p);
+    }
+}
+
+fn forget_live(p: &Path) {
+    if let Ok(mut live) = LIVE.lock() {
+        live.retain(|q| q != p);
+    }
+}
 
 /// A temporary sibling of an output file while it is written ([`temp_path`]). It is listed
 /// for [`remove_live_temporaries`] while alive, and removed when dropped unless
-/// [`TempFile::commit`] renamed it onto its output.
+/// [`TempFile::commit`] renamed it onto its output (or held it back for [`publish_held`]).
 #[derive(Debug)]
 pub struct TempFile {
+    /// Empty once handed over to the held outputs.
     path: PathBuf,
 }
 
@@ -38,18 +147,39 @@ impl TempFile {
         &self.path
     }
 
-    /// Renames it onto `output`.
-    pub fn commit(self, output: &Path) -> io::Result<()> {
+    /// Moves the finished file onto `output` ([`publish`]: at once, or with the other held
+    /// outputs once the run succeeded).
+    pub fn commit(mut self, output: &Path) -> io::Result<()> {
+        if HOLD.load(Ordering::SeqCst) {
+            let path = std::mem::take(&mut self.path);
+            publish(&path, output)
+        } else {
+            fs::rename(&self.path, output)
+        }
+    }
+
+    /// Renames it onto `output` now, even while outputs are held: for the parts of an output
+    /// that is itself still a temporary (the files inside a Zarr store being written).
+    pub fn commit_now(self, output: &Path) -> io::Result<()> {
         fs::rename(&self.path, output)
     }
 }
 
 impl Drop for TempFile {
     fn drop(&mut self) {
-        let _ = fs::remove_file(&self.path);
-        if let Ok(mut live) = LIVE.lock() {
-            live.retain(|p| p != &self.path);
+        if self.path.as_os_str().is_empty() {
+            return;
         }
+        // Published while outputs are held (a store folder or a streamed file moved by
+        // `publish`): it now belongs to the held outputs.
+        let held = HELD
+            .lock()
+            .is_ok_and(|h| h.iter().any(|(t, _)| t == &self.path));
+        if held {
+            return;
+        }
+        let _ = fs::remove_file(&self.path);
+        forget_live(&self.path);
     }
 }
 

@@ -193,7 +193,7 @@ impl WritableStorageTraits for AtomicFsStore {
         }
         let tmp = crate::engine::io::TempFile::new(&path);
         std::fs::write(tmp.path(), &value)?;
-        tmp.commit(&path)?;
+        tmp.commit_now(&path)?;
         Ok(())
     }
     fn set_partial_many(
@@ -291,7 +291,7 @@ fn ensure_document(root: &Path, rel: &str, doc: &Value) -> Result<(), ZarrError>
             let text = serde_json::to_vec_pretty(doc).map_err(|e| io(path.display(), e))?;
             let tmp = crate::engine::io::TempFile::new(&path);
             std::fs::write(tmp.path(), &text).map_err(|e| io(path.display(), e))?;
-            tmp.commit(&path).map_err(|e| io(path.display(), e))
+            tmp.commit_now(&path).map_err(|e| io(path.display(), e))
         }
         Err(e) => Err(io(path.display(), e)),
     }
@@ -624,16 +624,8 @@ where
     let _ = std::fs::remove_dir_all(&tmp);
     let guard = crate::engine::io::TempFile::new(root);
     let result = fill(&tmp).and_then(|()| {
-        let old = tmp.with_extension("old");
-        let had = root.exists();
-        if had {
-            std::fs::rename(root, &old).map_err(|e| io(root.display(), e))?;
-        }
-        std::fs::rename(&tmp, root).map_err(|e| io(root.display(), e))?;
-        if had {
-            let _ = std::fs::remove_dir_all(&old);
-        }
-        Ok(())
+        // (an existing store is moved aside, replaced and then removed)
+        crate::engine::io::publish(&tmp, root).map_err(|e| io(root.display(), e))
     });
     if result.is_err() {
         let _ = std::fs::remove_dir_all(&tmp);

@@ -323,6 +323,16 @@ impl SceneConfig {
     /// Reads a scenario file: a TOML table with `scene = "..."` and any of the other keys,
     /// each overriding the scene's default. Unknown keys are an error.
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
+        let (cfg, _) = SceneConfig::parse_toml(text)?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Reads a scenario file as [`SceneConfig::from_toml`] does, without checking the ranges
+    /// (the command line may still override what is out of range), and says whether the file
+    /// gave `snapshots`. A file that sets `steps` but no `snapshots` keeps the scene's default
+    /// snapshots up to `steps`, and `steps` itself.
+    pub fn parse_toml(text: &str) -> Result<(Self, bool), SceneError> {
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))?;
@@ -344,14 +354,31 @@ impl SceneConfig {
         let defaults = SceneConfig::defaults(scene);
         let mut merged =
             toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let snapshots_given = table.contains_key("snapshots");
+        let steps_given = table.contains_key("steps");
         for (k, v) in table {
             merged.insert(k, v);
         }
-        let cfg: SceneConfig = toml::Value::Table(merged)
+        let mut cfg: SceneConfig = toml::Value::Table(merged)
             .try_into()
             .map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))?;
-        cfg.validate()?;
-        Ok(cfg)
+        if steps_given && !snapshots_given {
+            cfg.fit_snapshots_to_steps();
+        }
+        Ok((cfg, snapshots_given))
+    }
+
+    /// Keeps the snapshots within `steps` and adds `steps` itself (for default snapshots
+    /// when the run's length changed; nothing to do for a run with no clock limit).
+    pub fn fit_snapshots_to_steps(&mut self) {
+        let v = self.steps;
+        if v == 0 {
+            return;
+        }
+        self.snapshots.retain(|&t| t <= v);
+        if self.snapshots.last() != Some(&v) {
+            self.snapshots.push(v);
+        }
     }
 
     /// The configuration as a TOML scenario file.
@@ -927,12 +954,26 @@ fn advance(
         SamplerKind::Rejection => g.run_rejection_until(rng, limit, accepted),
         SamplerKind::Exact => g.run_exact_until(rng, limit, accepted),
         SamplerKind::Ca => {
+            // The CA is deterministic: once a whole cycle of its rules adds no cell, no later
+            // step will (no cell can reach its threshold), and the run has stalled.
+            let period = cfg.ca_rule.len();
+            let mut idle = 0;
             while g.time() < limit && g.accepted() < accepted {
                 if g.surface().is_empty() {
                     return Outcome::Exhausted;
                 }
-                let k = g.time() as usize % cfg.ca_rule.len();
-                g.step_ca(cfg.ca_rule[k]);
+                let k = g.time() as usize % period;
+                if g.step_ca(cfg.ca_rule[k]) > 0 {
+                    idle = 0;
+                } else {
+                    idle += 1;
+                    if idle >= period {
+                        if limit.is_finite() {
+                            g.time = limit;
+                        }
+                        return Outcome::Stalled;
+                    }
+                }
             }
             Outcome::Limit
         }
@@ -964,6 +1005,56 @@ mod tests {
         assert_eq!(c.width, SceneConfig::defaults(SceneKind::Flame).width);
         let back = SceneConfig::from_toml(&c.to_toml()).unwrap();
         assert_eq!(back, c);
+    }
+
+    #[test]
+    fn a_scenario_with_steps_alone_keeps_the_default_snapshots_within_them() {
+        // Alone, a file's steps = 100 is out of reach of the default snapshots (up to 50,000):
+        // they are fitted to the run, as --steps fits them.
+        let (c, given) = SceneConfig::parse_toml("scene = \"flame\"\nsteps = 100\n").unwrap();
+        assert!(!given);
+        assert_eq!(c.snapshots.last(), Some(&100));
+        assert!(c.snapshots.iter().all(|&t| t <= 100));
+        c.validate().unwrap();
+        // Snapshots the file gives are its own, checked as they are.
+        let e = SceneConfig::from_toml("scene = \"flame\"\nsteps = 100\nsnapshots = [500]\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("snapshots = 500"), "{e}");
+        // A value out of range in the file is only refused once nothing overrides it.
+        let (mut c, _) = SceneConfig::parse_toml("scene = \"flame\"\nn = -1.0\n").unwrap();
+        assert!(c.validate().is_err());
+        c.n = 2.0;
+        c.validate().unwrap();
+    }
+
+    #[test]
+    fn a_ca_that_can_never_grow_stalls_at_once() {
+        // Rule 2 from one seed cell: every surface site has one occupied neighbour, so no
+        // synchronous update ever adds a cell. An event target must not spin for ever.
+        let mut c = SceneConfig::defaults(SceneKind::Ca);
+        c.ca_rule = vec![2];
+        c.events = Some(5);
+        c.steps = 0;
+        c.snapshots.clear();
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::Stalled);
+        assert_eq!(r.last.accepted, 0);
+        // With a clock limit the clock is moved to it, as the exact sampler does.
+        let mut c = SceneConfig::defaults(SceneKind::Ca);
+        c.ca_rule = vec![2];
+        c.steps = 1_000_000_000;
+        c.snapshots = vec![1_000_000_000];
+        let t = std::time::Instant::now();
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert!(t.elapsed().as_secs_f64() < 5.0);
+        assert_eq!(r.stop, StopReason::Stalled);
+        assert_eq!(r.last.time, 1e9);
+        // Alternating rules 1, 2 grow: a step that adds nothing under rule 2 is not a stall.
+        let mut c = SceneConfig::defaults(SceneKind::Ca);
+        c.ca_rule = vec![1, 2];
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert!(r.last.accepted > 0);
     }
 
     #[test]

@@ -269,7 +269,7 @@ pub fn write_stream(
     };
     let bytes = files
         .iter()
-        .map(|f| fs::metadata(f).map(|m| m.len()).unwrap_or(0))
+        .map(|f| crate::engine::io::output_len(f).unwrap_or(0))
         .sum();
     Ok(StreamReport {
         width: src.width(),
@@ -391,7 +391,7 @@ fn write_netcdf_stream(
         fs::File::open(&tmp)
             .and_then(|f| f.sync_all())
             .map_err(|x| out_err(path, x))?;
-        fs::rename(&tmp, path).map_err(|x| out_err(path, x))
+        crate::engine::io::publish(&tmp, path).map_err(|x| out_err(path, x))
     })();
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
@@ -475,7 +475,7 @@ fn write_npy_stream(
         return Err(err);
     }
     for (t, f) in temps.iter().zip(&finals) {
-        fs::rename(t, f).map_err(|x| out_err(f, x))?;
+        crate::engine::io::publish(t, f).map_err(|x| out_err(f, x))?;
     }
     drop(guards);
     let file_name = |p: &Path| {
