@@ -326,3 +326,101 @@ fn two_outputs_with_one_path_are_refused() {
     assert!(err.contains("--csv") && err.contains(".csv"), "{err}");
     assert!(!x.exists());
 }
+
+/// A measured figure (run times) drawn into a new folder comes out as the committed figure,
+/// byte for byte, from the table the program was built with.
+#[test]
+fn a_measured_figure_in_a_new_folder_is_the_committed_one() {
+    let dir = tmp_in("conventions", "measured_new_folder");
+    let _ = std::fs::remove_dir_all(&dir);
+    let name = "windripples_error_vs_time";
+    let out = cellsurf(&[
+        "figures",
+        "--only",
+        name,
+        "--out-dir",
+        dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let made = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
+    let committed = std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("figures/{name}.png")),
+    )
+    .unwrap();
+    assert!(
+        made == committed,
+        "{name}.png differs from the committed figure"
+    );
+    assert!(dir.join(format!("data/{name}.csv")).is_file());
+}
+
+/// Each of these is refused by name before any work: an option the chosen model does not use,
+/// a scenario that gives what the command line refuses together, a printed scenario that could
+/// not run, a seed a scenario file cannot hold, a growth lattice beyond its slots.
+#[test]
+fn unused_options_and_impossible_scenarios_are_refused_by_name() {
+    let dir = tmp_in("conventions", "refused");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let both = dir.join("both.toml");
+    std::fs::write(
+        &both,
+        "model = \"cursor\"\nsea_level = 3.0\nsea_quantile = 0.5\n",
+    )
+    .unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["dunes", "--size", "8", "--steps", "3", "-q", "2"],
+            "-q applies",
+        ),
+        (
+            vec!["dunes", "-d", "--size", "8", "--steps", "3", "-w", "5"],
+            "-w applies",
+        ),
+        (
+            vec!["dunes", "--size", "8", "--steps", "3", "--hop", "4"],
+            "--hop applies",
+        ),
+        (
+            vec!["dunes", "--variant", "werner", "--hop", "0"],
+            "--hop = 0",
+        ),
+        (
+            vec![
+                "cursor",
+                "--steps",
+                "10",
+                "--scenario",
+                both.to_str().unwrap(),
+            ],
+            "sea_level, sea_quantile",
+        ),
+        (vec!["cursor", "--k", "5", "--print-scenario"], "--k = 5"),
+        (
+            vec!["wind-ripples", "--kappa", "-1", "--print-scenario"],
+            "--kappa = -1",
+        ),
+        (
+            vec!["wind-ripples", "--steps", "1e12"],
+            "--steps = 1000000000000",
+        ),
+        (vec!["grow", "--seed", "9223372036854775808"], "--seed"),
+        (
+            vec!["grow", "--size", "20000", "--steps", "10"],
+            "--size = 20000x20000",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = cellsurf(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} ran");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?} printed a scenario");
+    }
+}

@@ -166,10 +166,28 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     }
     let bad = || format!("'{s}' is not a whole non-negative number (e.g. 100000 or 1e5)");
     let v: f64 = t.parse().map_err(|_| bad())?;
-    if !v.is_finite() || v < 0.0 || v.fract() != 0.0 || v > 1.8e19 {
+    if !v.is_finite() || v < 0.0 || v.fract() != 0.0 {
         return Err(bad());
     }
+    if v > 1.8e19 {
+        return Err(format!("'{s}' is too large: at most {}", u64::MAX));
+    }
     Ok(v as u64)
+}
+
+/// The largest seed: a scenario file (TOML) holds whole numbers up to 2^63 - 1.
+pub const MAX_SEED: u64 = i64::MAX as u64;
+
+/// A seed: a whole number from 0 to [`MAX_SEED`] (`1e3` accepted).
+pub fn parse_seed(s: &str) -> Result<u64, String> {
+    let v = parse_count(s)?;
+    if v > MAX_SEED {
+        return Err(format!(
+            "{s} is out of range: a seed is a whole number from 0 to {MAX_SEED} (2^63 - 1, the \
+             largest a scenario file holds)"
+        ));
+    }
+    Ok(v)
 }
 
 /// A duration in seconds: a number with an optional unit, `s`, `min`, `h` or `d` (`90s`,

@@ -138,8 +138,8 @@ pub struct Args {
     /// does not give its grid), or the wind image's size].
     #[arg(long, value_name = "W[xH]")]
     size: Option<Size>,
-    /// Seed of the random stream (the same seed gives the same output).
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
+    #[arg(long, default_value_t = 1, value_parser = conv::parse_seed)]
     seed: u64,
     /// Sea level for --out, in visits: cells lower than this are drawn as water
     /// [default: half the mean height, 100 for the article's steps on 240x240 cells].
@@ -312,9 +312,26 @@ pub fn run(a: Args) -> Result<()> {
     conv::set_quiet(a.quiet);
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "cursor")?;
-    if a.print_scenario {
-        out!("{}", conv::scenario_text(&a, "cursor")?)?;
-        return Ok(());
+    // A scenario file and the command line together may give what the command line alone
+    // refuses: two sources of wind, or two sea levels.
+    if a.wind_image.is_some() && a.wind_field.is_some() {
+        bail!(
+            "wind_image and wind_field are both given (a scenario file and the command line \
+             together): the wind comes from one of them; remove the other"
+        );
+    }
+    let seas = [
+        a.sea_level.map(|_| "sea_level"),
+        a.sea_fraction.map(|_| "sea_fraction"),
+        a.sea_quantile.map(|_| "sea_quantile"),
+    ];
+    let seas: Vec<&str> = seas.into_iter().flatten().collect();
+    if seas.len() > 1 {
+        bail!(
+            "{} are given together (a scenario file and the command line): the sea level \
+             is set by one of them; remove the others",
+            seas.join(", ")
+        );
     }
     let outs = Outputs::new(&a.out, "cursor", &[Format::Png])?;
     if let Some(p) = &a.save_wind {
@@ -375,6 +392,13 @@ pub fn run(a: Args) -> Result<()> {
         }
     };
     let (w, h) = (field.width(), field.height());
+    // (printed once every option is checked: a printed scenario is one that runs)
+    if a.print_scenario {
+        out!("{}", conv::scenario_text(&a, "cursor")?)?;
+        return Ok(());
+    }
+    // Every picture (the landscape, the saved wind) records the run's parameters.
+    cellsurf::plot::set_png_parameters(Some(conv::scenario_text(&a, "cursor")?));
     if let Some(p) = &a.save_wind {
         let bytes = field.to_png_bytes()?;
         write_atomic(p, &bytes).with_context(|| format!("writing --save-wind {}", p.display()))?;

@@ -76,8 +76,8 @@ pub struct Args {
     /// Wind speed in cells (ripple mode: jump = int(wind + h); finite, -10^9 to 10^9).
     #[arg(short = 'w', long = "wind", default_value_t = 3.0)]
     wind: f64,
-    /// Seed of the random stream (the same seed gives the same output).
-    #[arg(short = 's', long = "seed", default_value_t = 1)]
+    /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
+    #[arg(short = 's', long = "seed", default_value_t = 1, value_parser = conv::parse_seed)]
     seed: u64,
     /// Model: article (the article's code) or werner (Werner 1995 on the same slab engine).
     #[arg(long, value_enum, default_value_t = Variant::Article)]
@@ -110,6 +110,15 @@ pub struct Args {
     print_scenario: bool,
 }
 
+/// The model a mode runs, in words.
+fn describe_mode(m: Mode) -> &'static str {
+    match m {
+        Mode::Ripple => "ripple mode (the article's code without -d)",
+        Mode::Dune => "dune mode (-d)",
+        Mode::Werner => "--variant werner",
+    }
+}
+
 /// The run's configuration from the options.
 fn config(a: &Args) -> Result<DuneConfig> {
     let mode = match (a.variant, a.dune) {
@@ -130,6 +139,34 @@ fn config(a: &Args) -> Result<DuneConfig> {
         },
     };
     cfg.validate()?;
+    if !(1..=1_000_000).contains(&a.hop) {
+        bail!("hop = {} is out of range: expected 1 to 10^6 cells", a.hop);
+    }
+    // An option the chosen model does not use is refused, not ignored.
+    let unused = |id: &str, applies: &str| -> Result<()> {
+        if conv::typed(id) {
+            let flag = conv::typed_flag(id).unwrap_or_else(|| format!("--{id}"));
+            bail!(
+                "{flag} applies to {applies}, not to {mode}",
+                mode = describe_mode(mode)
+            );
+        }
+        Ok(())
+    };
+    match mode {
+        Mode::Ripple => unused("quantity", "dune mode (-d) and --variant werner")?,
+        Mode::Dune => {
+            unused("wind", "ripple mode (no -d)")?;
+            unused("hop", "--variant werner")?;
+        }
+        Mode::Werner => {
+            unused("wind", "ripple mode (no -d)")?;
+            unused("dune", "--variant article")?;
+        }
+    }
+    if mode == Mode::Ripple {
+        unused("hop", "--variant werner")?;
+    }
     if !(a.threshold.is_finite() && a.threshold >= 0.0) {
         bail!(
             "threshold = {} is out of range: expected a finite height of at least 0 cell widths",
@@ -196,18 +233,19 @@ pub fn run(a: Args) -> Result<()> {
     if s.sand_change != 0 || m.grains().len() != cfg.grid * cfg.grid {
         bail!("internal error: sand changed by {} grains", s.sand_change);
     }
+    // The run's parameters go into the PNG (iTXt `parameters`) and the GIF (a comment), as
+    // for every figure.
+    cellsurf::plot::set_png_parameters(Some(format!(
+        "threshold = {}\n{}",
+        a.threshold,
+        toml::to_string(&cfg).unwrap_or_default()
+    )));
     if let (Some(r), Some(p)) = (rec.as_ref(), outs.get(Format::Gif)) {
         r.write(p, 480, 8)
             .with_context(|| format!("writing {flag} {}", p.display()))?;
         conv::wrote(p);
     }
     if let Some(p) = outs.get(Format::Png) {
-        // The run's parameters go into the PNG (iTXt `parameters`), as for every figure.
-        cellsurf::plot::set_png_parameters(Some(format!(
-            "threshold = {}\n{}",
-            a.threshold,
-            toml::to_string(&cfg).unwrap_or_default()
-        )));
         draw_result(p, &m).with_context(|| format!("writing {flag} {}", p.display()))?;
         conv::wrote(p);
     }

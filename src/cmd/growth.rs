@@ -70,8 +70,8 @@ pub struct GrowArgs {
     /// CA: minimum occupied neighbours for growth, cycled over timesteps (1 = Fig. 3; 1,2 = Fig. 4).
     #[arg(long, value_delimiter = ',')]
     ca_rule: Option<Vec<usize>>,
-    /// Seed of the random stream (the same seed gives the same output).
-    #[arg(long)]
+    /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
+    #[arg(long, value_parser = conv::parse_seed)]
     seed: Option<u64>,
     /// Number of evenly spaced times at which observables are recorded (for a .csv output).
     #[arg(long)]
@@ -456,14 +456,15 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     outs.add_legacy(Format::Gif, a.gif.as_ref())?;
     let by_events = cfg.events.is_some() || cfg.until_occupied.is_some();
     // A clock-stopped run draws its snapshots only (an event-stopped one its final state too).
-    if let Some(p) = outs.get(Format::Png) {
-        if cfg.snapshots.is_empty() && !by_events {
-            bail!(
-                "{} {} needs at least one snapshot (--snapshots)",
-                conv::typed_flag("out").unwrap_or_else(|| "--out".into()),
-                p.display()
-            );
-        }
+    if let Some(p) = outs.get(Format::Png)
+        && cfg.snapshots.is_empty()
+        && !by_events
+    {
+        bail!(
+            "{} {} needs at least one snapshot (--snapshots)",
+            conv::typed_flag("out").unwrap_or_else(|| "--out".into()),
+            p.display()
+        );
     }
     let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
     bar.set_style(
@@ -472,6 +473,8 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     bar.set_message(format!("{scene} {}x{}", cfg.width, cfg.height));
+    // Every picture (PNG, GIF) records the run's parameters.
+    cellsurf::plot::set_png_parameters(Some(cfg.to_toml()));
     let gif = match outs.get(Format::Gif) {
         Some(p) => Some(GifWriter::create(
             p,
@@ -520,7 +523,6 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
             .with_context(|| format!("writing {flag} {}", p.display()))?;
         conv::wrote(p);
     }
-    cellsurf::plot::set_png_parameters(Some(cfg.to_toml()));
     if let Some(p) = outs.get(Format::Png) {
         if r.snapshots.is_empty() {
             bail!(
@@ -706,9 +708,12 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
     };
     let name = "growth_error_vs_time";
     let out = a.out_dir.join(format!("{name}.png"));
-    cellsurf::plot::set_png_parameters(Some(format!("figure = \"{name}\"")));
+    cellsurf::plot::set_png_parameters(Some(format!(
+        "figure = \"{name}\"\nseeds = {}\ngathered = {}",
+        a.seeds, a.gather
+    )));
     cellsurf::plot::record_charts(true);
-    let drawn = figures::draw_error_vs_time(&out, &curves);
+    let drawn = figures::draw_error_vs_time(&out, &curves, a.seeds);
     let recorded = cellsurf::plot::record_charts(false);
     cellsurf::plot::set_png_parameters(None);
     drawn?;

@@ -29,7 +29,7 @@ pub struct Args {
     /// override it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// Steps of the loop (notebook N_step; `1e3` accepted).
+    /// Steps of the loop (notebook N_step), 1 to 1e9 (`1e3` accepted).
     #[arg(long, value_name = "N", value_parser = conv::parse_count, default_value_t = WindParams::default().steps)]
     steps: u64,
     /// Number of particles N (notebook N_particles = 2**16 * 8), 1 to 2^30; 24 bytes of memory
@@ -53,8 +53,9 @@ pub struct Args {
     /// its torch code).
     #[arg(long, default_value_t = Schedule::Annealed)]
     schedule: Schedule,
-    /// Seed of the random streams (the same seed gives the same output, whatever --threads).
-    #[arg(long, default_value_t = WindParams::default().seed)]
+    /// Seed of the random streams, 0 to 2^63 - 1 (the same seed gives the same output,
+    /// whatever --threads).
+    #[arg(long, default_value_t = WindParams::default().seed, value_parser = conv::parse_seed)]
     seed: u64,
     /// Worker threads; 0 = all cores. The results do not depend on it.
     #[arg(long, default_value_t = 0)]
@@ -136,12 +137,6 @@ pub fn run(a: Args) -> Result<()> {
     conv::set_quiet(a.quiet);
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "wind-ripples")?;
-    if a.print_scenario {
-        out!("{}", conv::scenario_text(&a, "wind-ripples")?)?;
-        return Ok(());
-    }
-    let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
-    outs.add_legacy(Format::Npy, a.npy.as_ref())?;
     let params = WindParams {
         bins: a.size.side()?,
         particles: a.particles,
@@ -155,6 +150,13 @@ pub fn run(a: Args) -> Result<()> {
     params
         .validate()
         .context("invalid wind-ripples parameters")?;
+    // (a printed scenario is one that runs)
+    if a.print_scenario {
+        out!("{}", conv::scenario_text(&a, "wind-ripples")?)?;
+        return Ok(());
+    }
+    let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
+    outs.add_legacy(Format::Npy, a.npy.as_ref())?;
     if a.threads > 4096 {
         bail!(
             "--threads = {} is out of range: 0 (all cores) to 4096",

@@ -397,6 +397,16 @@ impl WindField {
             let mut enc = png::Encoder::new(&mut out, self.width as u32, self.height as u32);
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
+            // Provenance, as in every PNG cellsurf writes (the pixels alone are the winds).
+            enc.add_text_chunk(
+                "Software".to_string(),
+                format!("cellsurf {}", crate::engine::VERSION),
+            )
+            .map_err(err)?;
+            if let Some(p) = crate::plot::png_parameters() {
+                enc.add_itxt_chunk("parameters".to_string(), p)
+                    .map_err(err)?;
+            }
             let mut w = enc.write_header().map_err(err)?;
             w.write_image_data(&self.to_rgb_image()).map_err(err)?;
             w.finish().map_err(err)?;

@@ -80,10 +80,10 @@ pub fn output_len(output: &Path) -> io::Result<u64> {
 /// outputs are held ([`hold_outputs`]), at [`publish_held`].
 pub fn publish(tmp: &Path, output: &Path) -> io::Result<()> {
     if HOLD.load(Ordering::SeqCst) {
-        if let Ok(mut live) = LIVE.lock() {
-            if !live.iter().any(|p| p == tmp) {
-                live.push(tmp.to_path_buf());
-            }
+        if let Ok(mut live) = LIVE.lock()
+            && !live.iter().any(|p| p == tmp)
+        {
+            live.push(tmp.to_path_buf());
         }
         if let Ok(mut held) = HELD.lock() {
             held.push((tmp.to_path_buf(), output.to_path_buf()));

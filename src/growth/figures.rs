@@ -331,8 +331,13 @@ fn crystal_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 /// Seeds per curve in the error-against-time figure.
 pub const CONVERGE_SEEDS: usize = 24;
 
-/// Draws error-against-time curves, one chart per scene case.
-pub fn draw_error_vs_time(path: &Path, curves: &[ConvergeCurve]) -> Result<(), PlotError> {
+/// Draws error-against-time curves, one chart per scene case; `seeds` is the most seeds of
+/// a point (its title says 2..seeds).
+pub fn draw_error_vs_time(
+    path: &Path,
+    curves: &[ConvergeCurve],
+    seeds: usize,
+) -> Result<(), PlotError> {
     let mut charts: Vec<Chart> = Vec::new();
     for c in curves {
         let s = Series {
@@ -355,9 +360,7 @@ pub fn draw_error_vs_time(path: &Path, curves: &[ConvergeCurve]) -> Result<(), P
     }
     plot::line_charts(
         path,
-        &format!(
-            "Error against run time: 2..{CONVERGE_SEEDS} seeds per point (cellsurf {VERSION})"
-        ),
+        &format!("Error against run time: 2..{seeds} seeds per point (cellsurf {VERSION})"),
         &charts,
         2,
         (600, 420),
@@ -367,7 +370,7 @@ pub fn draw_error_vs_time(path: &Path, curves: &[ConvergeCurve]) -> Result<(), P
 fn error_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     let curves = converge::converge_growth(CONVERGE_SEEDS)?;
     let p = dir.join("growth_error_vs_time.png");
-    draw_error_vs_time(&p, &curves)?;
+    draw_error_vs_time(&p, &curves, CONVERGE_SEEDS)?;
     Ok(vec![p])
 }
 

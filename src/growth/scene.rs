@@ -388,6 +388,17 @@ impl SceneConfig {
 
     /// Checks every parameter, naming the first one out of range.
     pub fn validate(&self) -> Result<(), SceneError> {
+        let cells = self.width as u128 * self.height as u128;
+        if cells > crate::growth::state::MAX_GROWTH_CELLS as u128 {
+            return Err(range(
+                "size",
+                format!("{}x{} ({cells} cells)", self.width, self.height),
+                format!(
+                    "at most {} cells (2^28 - 1) for a growth run, e.g. 16383x16383",
+                    crate::growth::state::MAX_GROWTH_CELLS
+                ),
+            ));
+        }
         let lattice = Lattice::new(self.lattice, self.width, self.height, self.boundary)?;
         Sticking::new(self.n, self.lattice.z())?;
         let event_stop = self.events.is_some() || self.until_occupied.is_some();

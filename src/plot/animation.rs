@@ -13,7 +13,8 @@ const GIF_STATE_COLORS: usize = 255;
 /// Frames are encoded into memory as they are added (indexed colour with one global palette:
 /// the [`Palette`]'s colours, at most 255, plus the white background; no quantisation, so
 /// colours are exact); [`GifWriter::finish`] writes the file atomically. The animation loops
-/// forever.
+/// forever. A comment extension records the cellsurf version and the parameters set by
+/// [`super::set_png_parameters`] when the writer is created.
 ///
 /// ```no_run
 /// # use cellsurf::plot::{CellField, GifWriter, Palette};
@@ -128,6 +129,19 @@ impl GifWriter {
         let mut encoder =
             gif::Encoder::new(Vec::new(), w as u16, h as u16, &table).map_err(enc_err)?;
         encoder.set_repeat(gif::Repeat::Infinite).map_err(enc_err)?;
+        // Provenance, as in every PNG: a comment with the version, and the run's parameters
+        // when the caller set them (`set_png_parameters`).
+        let mut comment = format!("cellsurf {}", crate::engine::VERSION);
+        if let Some(p) = super::png_parameters() {
+            comment.push_str("\nparameters:\n");
+            comment.push_str(&p);
+        }
+        encoder
+            .write_raw_extension(
+                gif::AnyExtension(gif::Extension::Comment as u8),
+                &[comment.as_bytes()],
+            )
+            .map_err(enc_err)?;
         Ok(GifWriter {
             path: path.to_path_buf(),
             nx,
@@ -197,5 +211,42 @@ impl GifWriter {
             .map_err(|e| PlotError::Encoding(e.to_string()))?;
         crate::engine::io::write_atomic(&self.path, &bytes)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gif_records_the_version_and_the_parameters() {
+        let dir = std::env::temp_dir().join(format!("cellsurf-gif-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.gif");
+        super::super::set_png_parameters(Some("n = 2.5\nseed = 7\n".to_string()));
+        let mut gif = GifWriter::create(&path, 8, 8, false, 64, &Palette::flame(), 8).unwrap();
+        super::super::set_png_parameters(None);
+        gif.add_frame(&CellField::new(8, 8, false)).unwrap();
+        gif.finish().unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        // A comment extension (0x21 0xFE) holding the text in one sub-block.
+        let at = bytes
+            .windows(2)
+            .position(|w| w == [0x21, 0xFE])
+            .expect("a comment extension");
+        let len = usize::from(bytes[at + 2]);
+        let text = String::from_utf8_lossy(&bytes[at + 3..at + 3 + len]).into_owned();
+        assert!(
+            text.starts_with(&format!("cellsurf {}", crate::engine::VERSION)),
+            "{text}"
+        );
+        assert!(text.contains("n = 2.5\nseed = 7"), "{text}");
+        // The file still decodes, one frame.
+        let mut d = gif::DecodeOptions::new()
+            .read_info(std::fs::File::open(&path).unwrap())
+            .unwrap();
+        assert!(d.read_next_frame().unwrap().is_some());
+        assert!(d.read_next_frame().unwrap().is_none());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -106,9 +106,27 @@ impl ChartTable {
         if !csv.exists() || !toml_path.exists() {
             return Ok(None);
         }
-        let bad = |what: String| PlotError::invalid(toml_path.display().to_string(), what);
-        let meta: Meta = toml::from_str(&std::fs::read_to_string(&toml_path)?)
-            .map_err(|e| bad(e.to_string()))?;
+        let meta_text = std::fs::read_to_string(&toml_path)?;
+        let text = std::fs::read_to_string(&csv)?;
+        ChartTable::from_texts(
+            &csv.display().to_string(),
+            &text,
+            &toml_path.display().to_string(),
+            &meta_text,
+        )
+        .map(Some)
+    }
+
+    /// A table from the texts of its two files (`csv_name` and `toml_name` name them in
+    /// errors): the form [`ChartTable::read`] reads, for a table held in memory.
+    pub fn from_texts(
+        csv_name: &str,
+        text: &str,
+        toml_name: &str,
+        meta_text: &str,
+    ) -> Result<ChartTable, PlotError> {
+        let bad = |what: String| PlotError::invalid(toml_name.to_string(), what);
+        let meta: Meta = toml::from_str(meta_text).map_err(|e| bad(e.to_string()))?;
         let mut charts: Vec<Chart> = meta
             .charts
             .into_iter()
@@ -130,10 +148,9 @@ impl ChartTable {
                     .collect(),
             })
             .collect();
-        let text = std::fs::read_to_string(&csv)?;
         let bad_row = |k: usize, line: &str| {
             PlotError::invalid(
-                csv.display().to_string(),
+                csv_name.to_string(),
                 format!(
                     "row {}: '{line}' is not chart,series,x,y of the table",
                     k + 1
@@ -160,13 +177,13 @@ impl ChartTable {
             s.x.push(x);
             s.y.push(y);
         }
-        Ok(Some(ChartTable {
+        Ok(ChartTable {
             title: meta.title,
             cols: meta.cols,
             chart_px: meta.chart_px,
             png_parameters: meta.png_parameters,
             charts,
-        }))
+        })
     }
 
     /// Draws the table into `path` (the same PNG as the run that measured it).

@@ -12,6 +12,9 @@ use crate::ripple::{Mode, RippleParams};
 
 use super::ServeError;
 
+/// The seeds a page may ask for: a scenario file it exports holds whole numbers up to 2^63 - 1.
+const SEED_RANGE: &str = "a whole number from 0 to 9223372036854775807 (2^63 - 1)";
+
 /// The largest lattice a session may hold, cells (512 x 512): each session's memory stays
 /// below about 8 MB.
 pub const MAX_CELLS: usize = 512 * 512;
@@ -186,7 +189,10 @@ impl GrowthSettings {
                 .map_err(|_| bad("sampler", v, "exact, rejection or ca"))?;
             custom = true;
         }
-        if let Some(s) = num::<u64>(q, "seed", "a whole number from 0 to 2^64 - 1")? {
+        if let Some(s) = num::<u64>(q, "seed", SEED_RANGE)? {
+            if s > i64::MAX as u64 {
+                return Err(bad("seed", &s.to_string(), SEED_RANGE));
+            }
             c.seed = s;
         }
         if let Some(v) = q.get("ca_rule") {
@@ -287,7 +293,10 @@ impl RippleSettings {
         if let Some(v) = num::<f64>(q, "current_angle", "degrees")? {
             p.current_angle = v;
         }
-        if let Some(v) = num::<u64>(q, "seed", "a whole number")? {
+        if let Some(v) = num::<u64>(q, "seed", SEED_RANGE)? {
+            if v > i64::MAX as u64 {
+                return Err(bad("seed", &v.to_string(), SEED_RANGE));
+            }
             p.seed = v;
         }
         p.validate().map_err(|e| ServeError::Scene(e.to_string()))?;

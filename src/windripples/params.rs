@@ -150,6 +150,7 @@ impl WindParams {
 
     /// Checks every parameter; the error names the first one out of range.
     pub fn validate(&self) -> Result<(), WindError> {
+        const MAX_STEPS: u64 = 1_000_000_000;
         if self.particles == 0 || self.particles > MAX_PARTICLES {
             return Err(WindError::out_of_range(
                 "particles",
@@ -164,8 +165,12 @@ impl WindParams {
                 "1 to 4096 (bins^2 histogram cells)",
             ));
         }
-        if self.steps == 0 {
-            return Err(WindError::out_of_range("steps", self.steps, "at least 1"));
+        if self.steps == 0 || self.steps > MAX_STEPS {
+            return Err(WindError::out_of_range(
+                "steps",
+                self.steps,
+                "1 to 1000000000 (1e9)",
+            ));
         }
         if !(self.kappa.is_finite() && self.kappa >= 0.0) {
             return Err(WindError::out_of_range(
