@@ -11,14 +11,14 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use cellsurf::ripple::output::{run_recording, write_netcdf, write_npy};
+use cellsurf::ripple::output::{run_recording, write_netcdf_with, write_npy_with};
 
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::run_until_mature;
 use cellsurf::ripple::predictors::{Prediction, length_along};
 use cellsurf::ripple::regime::Regime;
-use cellsurf::ripple::waves::{SurfaceWave, wave_friction_factor};
+use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -46,7 +46,8 @@ pub struct Args {
     /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default: slices].
     #[arg(long)]
     abstraction: Option<Abstraction>,
-    /// Columns along x and y, NXxNY (NXx1 in 2d) [default: 128x64; NXx1 in 2d].
+    /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: 128x64; NXx1 in
+    /// 2d].
     #[arg(long, value_name = "NXxNY")]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
@@ -55,16 +56,17 @@ pub struct Args {
     /// Old spelling of the y part of --size (kept for one release).
     #[arg(long, hide = true)]
     ny: Option<usize>,
-    /// Mean initial sand thickness, automata per column [default: 30].
+    /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// Horizontal bin size, m [default: 0.005].
+    /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
-    /// Layer thickness gd, m [default: 0.0005].
+    /// Layer thickness gd, m, above 0 and at most --bin-size x tan(--avalanche-angle) (one
+    /// automaton over one bin no steeper than the avalanche angle) [default: 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
-    /// Steps (`1e4` accepted) [default: 10000].
+    /// Steps (`1e4` accepted), 0 to 2^40 [default: 10000].
     #[arg(long, value_name = "N", value_parser = conv::parse_count)]
     steps: Option<u64>,
     /// Simulated duration instead of --steps: seconds, or with a unit (`90s`, `30min`, `2h`,
@@ -74,13 +76,14 @@ pub struct Args {
     duration: Option<f64>,
     /// Stop early once the field is mature: `equilibrium` (wavelength and height change by
     /// less than 10 % between t and 2t, checked at 1000 steps and its doublings); --steps or
-    /// --duration is the cap.
+    /// --duration is the cap. Recorded as `until` in the parameters, with the step and reason
+    /// of the stop in the output.
     #[arg(long, value_name = "WHEN", value_parser = ["equilibrium"])]
     until: Option<String>,
-    /// Fraction of automata triggered per step [default: 0.001].
+    /// Fraction of automata triggered per step, above 0 and at most 1 [default: 0.001].
     #[arg(long)]
     activity: Option<f64>,
-    /// Median grain size, mm [default: 0.2].
+    /// Median grain size, mm, 0.01 to 10 [default: 0.2].
     #[arg(long)]
     d50: Option<f64>,
     /// Sorting sigma_phi, phi units, 0 to 2 [default: 0.5].
@@ -90,20 +93,23 @@ pub struct Args {
     /// 2d [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
-    /// Current speed, m/s [default: 0.5].
+    /// Current speed, m/s, 0 to 10 (sheet flow, above the ripple regime, is refused)
+    /// [default: 0.5].
     #[arg(long)]
     current_speed: Option<f64>,
-    /// Wave period, seconds or with a unit (`8s`); converted to steps with the step duration
-    /// (--json reports `wave_period_steps`) [default: no wave].
+    /// Wave period, seconds or with a unit (`8s`), above 0 and at most 1000 s (needs
+    /// --wave-velocity or --wave-height); converted to steps with the step duration (--json
+    /// reports `wave_period_steps`) [default: no wave].
     #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, allow_hyphen_values = true)]
     wave_period: Option<f64>,
-    /// Near-bed orbital velocity amplitude of the waves, m/s (needs --wave-period)
+    /// Near-bed orbital velocity amplitude of the waves, m/s, 0 to 10 (needs --wave-period)
     /// [default: 0].
     #[arg(long = "wave-velocity", alias = "wave-amplitude")]
     wave_amplitude: Option<f64>,
     /// Surface wave height H (crest to trough), m: the near-bed orbital velocity then follows
     /// from linear wave theory with --wave-period and --water-depth (instead of
-    /// --wave-velocity); refused above 0.78 x depth or 1/7 of the wavelength (breaking).
+    /// --wave-velocity); above 0 and at most 100, refused above 0.78 x depth or 1/7 of the
+    /// wavelength (breaking).
     #[arg(
         long,
         value_name = "M",
@@ -111,7 +117,7 @@ pub struct Args {
         allow_hyphen_values = true
     )]
     wave_height: Option<f64>,
-    /// Water depth h, m, for --wave-height.
+    /// Water depth h, m, for --wave-height; above 0 and at most 10000.
     #[arg(long, value_name = "M", allow_hyphen_values = true)]
     water_depth: Option<f64>,
     /// Wave friction factor f_w of the waves' bed stress rho (f_w / 2) U_w^2, 0 to 1 (0: the
@@ -129,26 +135,28 @@ pub struct Args {
     /// pull the crests towards them); the same in 2d [default: flow].
     #[arg(long)]
     frame: Option<cellsurf::ripple::Frame>,
-    /// Avalanche angle alpha, degrees [default: 32].
+    /// Avalanche angle alpha, degrees, above 0 and below 90 [default: 32].
     #[arg(long)]
     avalanche_angle: Option<f64>,
-    /// Stoss stability angle beta, degrees [default: 7].
+    /// Stoss stability angle beta, degrees, 0 to --avalanche-angle [default: 7].
     #[arg(long)]
     stoss_angle: Option<f64>,
-    /// Creep angle gamma, degrees [default: 5].
+    /// Creep angle gamma, degrees, 0 to below 90 [default: 5].
     #[arg(long)]
     creep_angle: Option<f64>,
     /// Acoustic model: hamilton or apl-uw [default: hamilton].
     #[arg(long)]
     acoustics: Option<AcousticModel>,
-    /// Seed of the random stream, 0 to 2^53 [default: 1].
-    #[arg(long)]
+    /// Seed of the random stream, 0 to 2^53 = 9007199254740992 [default: 1].
+    #[arg(long, value_parser = parse_seed, allow_hyphen_values = true)]
     seed: Option<u64>,
     /// Steps at which to keep the elevation, comma-separated [default: 0 and the last step].
     #[arg(long, value_delimiter = ',')]
     snapshots: Option<Vec<u64>>,
     /// Fields to write (comma-separated): elevation, grain_size, porosity, density,
-    /// sound_speed, impedance [default: all; without porosity for apl-uw].
+    /// sound_speed, impedance [default: all; without porosity for apl-uw]. `cellsurf tile` and
+    /// `cellsurf raytrace` read the elevation: an output without it cannot be tiled or
+    /// ray-traced; .npy needs it (NAME.npy is the elevation).
     #[arg(long, value_delimiter = ',')]
     fields: Option<Vec<Field>>,
     /// Old spelling: netcdf or npy, with --out a file stem (kept for one release).
@@ -187,9 +195,13 @@ fn params(a: &Args) -> Result<RippleParams> {
                     path.display()
                 ),
             }
-            let p: RippleParams = toml::Value::Table(t)
-                .try_into()
-                .map_err(|e| anyhow::anyhow!("in --scenario {}: {e}", path.display()))?;
+            let p: RippleParams = toml::Value::Table(t).try_into().map_err(|e| {
+                anyhow::anyhow!(
+                    "in --scenario {}: {}",
+                    path.display(),
+                    cellsurf::ripple::params::renamed_key_hint(&e.to_string())
+                )
+            })?;
             p
         }
         None => RippleParams::default(),
@@ -223,11 +235,22 @@ fn params(a: &Args) -> Result<RippleParams> {
         acoustics,
         seed
     );
+    if a.until.is_some() {
+        p.until = a.until.clone();
+    }
     if a.wave_angle.is_some() {
         p.wave_angle = a.wave_angle;
     }
-    if a.wave_period.is_some() {
-        // seconds; a provisional period in steps until the step duration is known
+    if let Some(t) = a.wave_period {
+        // one limit in seconds, whether the period goes with --wave-velocity or --wave-height
+        if !(t.is_finite() && t > 0.0 && t <= MAX_PERIOD_S) {
+            bail!(
+                "--wave-period = {} s is out of range: expected a number of seconds in (0, {MAX_PERIOD_S}]",
+                cellsurf::ripple::params::shown(t)
+            );
+        }
+        // seconds; a provisional period in steps until the step duration is known (the
+        // clock's flux is averaged over whole cycles whatever it is)
         p.wave_period = 64.0;
     }
     match (a.wave_height, a.wave_period, a.water_depth) {
@@ -268,6 +291,43 @@ fn params(a: &Args) -> Result<RippleParams> {
             p.wave_friction_factor
         ));
     }
+    // wave options with no waves to act on
+    if p.wave_amplitude == 0.0 && a.wave_amplitude.is_none() {
+        let idle: Vec<String> = [
+            ("wave_period", a.wave_period.map(|t| format!("{t} s"))),
+            ("wave_angle", a.wave_angle.map(|v| v.to_string())),
+            (
+                "wave_friction_factor",
+                a.wave_friction_factor.map(|v| v.to_string()),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(id, v)| {
+            v.map(|v| {
+                format!(
+                    "{} = {v}",
+                    conv::typed_flag(id).unwrap_or_else(|| format!("--{}", id.replace('_', "-")))
+                )
+            })
+        })
+        .collect();
+        if !idle.is_empty() {
+            bail!(
+                "{} acts on waves, and there are none: give --wave-velocity (near-bed orbital velocity, m/s) or --wave-height with --water-depth",
+                idle.join(" and ")
+            );
+        }
+    }
+    if p.lattice_slope_deg() > p.avalanche_angle {
+        bail!(
+            "--layer-thickness = {} m is out of range for --bin-size = {} m and --avalanche-angle = {} deg: one automaton over one bin is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold; expected --layer-thickness at most --bin-size x tan(--avalanche-angle) = {} m (or a larger --bin-size or --avalanche-angle)",
+            cellsurf::ripple::params::shown(p.layer_thickness),
+            cellsurf::ripple::params::shown(p.bin_size),
+            p.avalanche_angle,
+            p.lattice_slope_deg(),
+            cellsurf::ripple::params::rounded(p.bin_size * p.avalanche_angle.to_radians().tan())
+        );
+    }
     if p.mode == Mode::TwoD {
         if let Some(ny) = a.ny.or(a.size.map(|s| s.h)).filter(|&n| n != 1) {
             let flag = conv::typed_flag("size").unwrap_or_else(|| "--size".into());
@@ -285,22 +345,109 @@ fn params(a: &Args) -> Result<RippleParams> {
 /// Converts the options given in seconds (`--duration`, `--wave-period`) to steps of the
 /// step duration of `clock` (none: no motion, nothing runs).
 fn to_steps(a: &Args, p: &mut RippleParams, clock: Option<&StepClock>) -> Result<()> {
-    if let (Some(d), Some(c)) = (a.duration, clock) {
-        p.steps = c.steps_for(d)?;
+    match (a.duration, clock) {
+        (Some(d), Some(c)) => {
+            p.steps = c.steps_for(d)?;
+            if d < 0.5 * c.step_s {
+                conv::note(format_args!(
+                    "note: --duration = {d} s is shorter than one step ({:.4} s): one step is run ({:.4} s)",
+                    c.step_s, c.step_s
+                ));
+            }
+        }
+        // no motion: no step is run, whatever was asked
+        (_, None) => p.steps = 0,
+        (None, Some(_)) => {}
     }
     if let Some(t) = a.wave_period {
         p.wave_period = match clock {
+            Some(c) if t / c.step_s > 1e12 => bail!(
+                "--wave-period = {} s is out of range: expected at most 1e12 steps of {:.4e} s ({:.4e} s)",
+                cellsurf::ripple::params::shown(t),
+                c.step_s,
+                1e12 * c.step_s
+            ),
             Some(c) if t / c.step_s >= 2.0 => t / c.step_s,
             Some(c) => bail!(
                 "--wave-period = {t} s is out of range: expected at least two steps of {:.4} s ({:.4} s)",
                 c.step_s,
                 2.0 * c.step_s
             ),
-            None => 64.0,
+            // no motion: the period has no length in steps (it is recorded in seconds)
+            None => 0.0,
         };
     }
     p.validate()?;
     Ok(())
+}
+
+/// The step clock of a run that moves sand: `None` with no motion (the transport law moves
+/// nothing, or the model's rules carry no grain on a flat bed).
+fn clock_of(
+    p: &RippleParams,
+    reg: &cellsurf::ripple::regime::RegimeReport,
+) -> Result<Option<StepClock>> {
+    if reg.regime == Regime::NoMotion {
+        return Ok(None);
+    }
+    let c = StepClock::of(p)?;
+    Ok(c.grains_move().then_some(c))
+}
+
+/// The flag that sets the largest flow speed, and what else adds to it: the waves' (with their
+/// friction factor) where they reach sheet flow on their own or dominate, the current's
+/// otherwise.
+fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
+    let current = format!("--current-speed = {} m/s", p.current_speed);
+    if p.wave_amplitude == 0.0 {
+        return (current, String::new());
+    }
+    let wave_flag = match a.wave_height {
+        Some(h) => format!("--wave-height = {h} m"),
+        None => format!(
+            "{} = {} m/s",
+            conv::typed_flag("wave_amplitude").unwrap_or_else(|| "--wave-velocity".into()),
+            p.wave_amplitude
+        ),
+    };
+    let waves = format!(
+        "the waves (near-bed orbital velocity {} m/s{}) rub the bed like a current of {:.3} m/s",
+        p.wave_amplitude,
+        if p.wave_friction_factor > 0.0 {
+            format!(
+                ", wave friction factor {:.4} {}",
+                p.wave_friction_factor,
+                if a.wave_friction_factor.is_some() {
+                    "from --wave-friction-factor"
+                } else {
+                    "from their orbital excursion, Soulsby Eq. 60a, or set by --wave-friction-factor"
+                }
+            )
+        } else {
+            String::new()
+        },
+        p.wave_stress_amplitude()
+    );
+    let current_alone = cellsurf::ripple::regime::regime(&RippleParams {
+        wave_amplitude: 0.0,
+        ..p.clone()
+    });
+    if current_alone.regime == Regime::SheetFlow {
+        (current, format!("with {wave_flag}: {waves}"))
+    } else if p.current_speed > 0.0 {
+        (wave_flag, format!("{waves}, with {current}"))
+    } else {
+        (wave_flag, waves)
+    }
+}
+
+/// `--seed`: an integer in [0, 2^53] (every output records it exactly as a number).
+fn parse_seed(s: &str) -> Result<u64, String> {
+    const EXPECTED: &str = "expected an integer in [0, 2^53 = 9007199254740992]";
+    match s.trim().parse::<u64>() {
+        Ok(v) if v <= 1 << 53 => Ok(v),
+        _ => Err(format!("{s} is out of range: {EXPECTED}")),
+    }
 }
 
 /// Runs the subcommand.
@@ -310,19 +457,32 @@ pub fn run(a: Args) -> Result<()> {
     let p = params(&a)?;
     if a.print_scenario {
         let mut p = p;
+        let mut asked = String::new();
         if a.duration.is_some() || a.wave_period.is_some() {
-            let moving = cellsurf::ripple::regime::regime(&p).regime != Regime::NoMotion;
-            let clock = if moving {
-                Some(StepClock::of(&p)?)
-            } else {
-                None
-            };
+            let reg = cellsurf::ripple::regime::regime(&p);
+            let clock = clock_of(&p, &reg)?;
             to_steps(&a, &mut p, clock.as_ref())?;
+            asked = format!(
+                "# asked for:{}{}{}\n",
+                a.duration
+                    .map_or(String::new(), |d| format!(" --duration {d} s")),
+                a.wave_period
+                    .map_or(String::new(), |t| format!(" --wave-period {t} s")),
+                match clock {
+                    Some(c) => format!(" (steps of {:e} s)", c.step_s),
+                    None =>
+                        " (no motion: no step is run, and the wave period has no length in steps)"
+                            .into(),
+                }
+            );
+        }
+        let mut text = p.to_toml();
+        if !text.ends_with('\n') {
+            text.push('\n');
         }
         out!(
-            "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\nmodel = \"ripple\"\n{}",
+            "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\n{asked}model = \"ripple\"\n{text}",
             cellsurf::ripple::VERSION,
-            p.to_toml()
         )?;
         return Ok(());
     }
@@ -374,31 +534,46 @@ pub fn run(a: Args) -> Result<()> {
         seen.push(*f);
         new
     });
+    if format == Format::Npy && out.is_some() && !fields.contains(&Field::Elevation) {
+        let o = out.as_deref().unwrap_or(std::path::Path::new(""));
+        bail!(
+            "--fields = {} has no elevation, and --out {} names the elevation file (NAME.npy the elevation snapshots, NAME_FIELD.npy each volume field, NAME.json the parameters): add elevation to --fields (`cellsurf tile` and `cellsurf raytrace` need it too), or write .nc or .zarr",
+            fields
+                .iter()
+                .map(|f| f.name())
+                .collect::<Vec<_>>()
+                .join(","),
+            o.display()
+        );
+    }
     let spec = OutputSpec { fields, format };
     spec.validate(p.acoustics)?;
 
-    if let Some(out) = out.as_ref().filter(|_| format != Format::Zarr) {
-        cellsurf::engine::io::check_output("--out", out)?;
+    if let Some(out) = out.as_ref() {
+        if format == Format::Zarr {
+            cellsurf::ripple::zarr::check_store_target(out)
+                .with_context(|| format!("--out {}", out.display()))?;
+        } else {
+            cellsurf::engine::io::check_output("--out", out)?;
+        }
     }
 
     let reg = cellsurf::ripple::regime::regime(&p);
     let (lo, hi) = reg.ripple_speeds;
-    // the waves' friction, when they have their own: the speeds below are those of a current
-    // with the same bed stress
-    let wave_note = if p.wave_amplitude > 0.0 && p.wave_friction_factor > 0.0 {
-        format!(
-            " and wave friction factor {:.4}, rubbing like a current of {:.3} m/s",
-            p.wave_friction_factor,
-            p.wave_stress_amplitude()
-        )
-    } else {
-        String::new()
-    };
     match reg.regime {
         Regime::SheetFlow => bail!(
-            "--current-speed = {} m/s (with waves of near-bed orbital velocity {} m/s{wave_note}) is out of range: it gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
-            p.current_speed,
-            p.wave_amplitude,
+            "{} is out of range: {}the flow's largest speed, {:.3} m/s{}, gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            flow_cause(&a, &p).0,
+            match flow_cause(&a, &p).1 {
+                d if d.is_empty() => d,
+                d => format!("{d}; "),
+            },
+            reg.speed,
+            if p.wave_amplitude > 0.0 {
+                " (current and waves as a current of the same bed stress)"
+            } else {
+                ""
+            },
             reg.shields,
             p.d50,
             cellsurf::ripple::regime::THETA_SHEET_FLOW
@@ -422,25 +597,40 @@ pub fn run(a: Args) -> Result<()> {
         )),
         Regime::Ripples => {}
     }
-    let clock = if reg.regime == Regime::NoMotion {
-        None
+    let clock = clock_of(&p, &reg)?;
+    // the transport law moves sand but the model's grains do not move on a flat bed
+    let stuck = reg.regime != Regime::NoMotion && clock.is_none();
+    if stuck {
+        let (finest, median) = cellsurf::ripple::clock::model_threshold_speeds(&p);
+        conv::note(format_args!(
+            "no motion in the model: {}{} gives the flow's largest speed of {:.3} m/s, above the threshold of motion ({lo:.3} m/s), but the model's rules carry no grain a bin on a flat bed (the flat-bed measurement moved none): they move the finest grains from {finest:.3} m/s and the median grain from {median:.3} m/s (--bin-size, --layer-thickness and the hop length set that threshold); the bed is left as it is",
+            flow_cause(&a, &p).0,
+            match flow_cause(&a, &p).1 {
+                d if d.is_empty() => d,
+                d => format!(" ({d})"),
+            },
+            reg.speed
+        ));
+    }
+    let regime_name = if stuck {
+        Regime::NoMotion.name()
     } else {
-        Some(StepClock::of(&p)?)
+        reg.regime.name()
     };
     let mut p = p;
+    let asked_steps = p.steps;
     to_steps(&a, &mut p, clock.as_ref())?;
-    if p.wave_amplitude > 0.0 && p.wave_period == 0.0 {
+    if p.wave_amplitude > 0.0
+        && p.wave_period == 0.0
+        && (clock.is_some() || a.scenario.is_none() && a.wave_period.is_none())
+    {
         bail!(
             "{} = {} m/s needs a wave period: give --wave-period (seconds)",
             conv::typed_flag("wave_amplitude").unwrap_or_else(|| "--wave-velocity".into()),
             p.wave_amplitude
         );
     }
-    let steps = if reg.regime == Regime::NoMotion {
-        0
-    } else {
-        p.steps
-    };
+    let steps = p.steps;
     let wave_period_s = match (a.wave_period, clock.as_ref()) {
         (Some(t), _) => t,
         (None, Some(c)) => c.step_s * p.wave_period,
@@ -467,15 +657,29 @@ pub fn run(a: Args) -> Result<()> {
         _ => None,
     };
 
-    let times: Vec<u64> = match &a.snapshots {
+    let mut times: Vec<u64> = match &a.snapshots {
         Some(t) => t.clone(),
         None => vec![0, p.steps],
     };
-    if let Some(&t) = times.iter().find(|&&t| t > p.steps) {
+    // (with no motion the cap is the steps asked for: none of them is run)
+    let cap = if clock.is_some() {
+        p.steps
+    } else {
+        asked_steps
+    };
+    if let Some(&t) = times.iter().find(|&&t| t > cap) {
         bail!(
             "snapshots = {t} is out of range: expected steps in [0, steps = {}]",
-            p.steps
+            cap
         );
+    }
+    if clock.is_none() {
+        if times.iter().any(|&t| t > 0) {
+            conv::note(format_args!(
+                "note: no motion, no step is run: the bed of step 0 is the only snapshot"
+            ));
+        }
+        times = vec![0];
     }
 
     let start = Instant::now();
@@ -500,7 +704,7 @@ pub fn run(a: Args) -> Result<()> {
         }
     };
     let mut mature = None;
-    let mut snaps = if a.until.is_some() {
+    let mut snaps = if p.until.is_some() {
         let m = run_until_mature(&mut r, steps, &times, progress);
         mature = Some((m.mature_at, m.checkpoints));
         m.snapshots
@@ -509,22 +713,59 @@ pub fn run(a: Args) -> Result<()> {
     };
     bar.finish_and_clear();
     if steps == 0 {
-        // no motion: the bed of step 0 at every snapshot asked for
+        // no motion (or no step asked for): the bed of step 0
         let bed = run_recording(&mut r, 0, &[0], |_| {}).remove(0).1;
         snaps = times.iter().map(|&t| (t, bed.clone())).collect();
     }
     let elapsed = start.elapsed().as_secs_f64();
+    // why the run stopped where it did
+    let stop_reason = match (&p.until, mature.as_ref().and_then(|m| m.0)) {
+        (Some(_), Some(_)) => "equilibrium",
+        (Some(_), None) => "cap (steps)",
+        (None, _) if clock.is_none() => "no motion",
+        (None, _) => "steps",
+    };
+    let missed: Vec<u64> = times.iter().copied().filter(|&t| t > r.time()).collect();
+    if !missed.is_empty() {
+        conv::note(format_args!(
+            "note: the run stopped at step {} ({stop_reason}): the snapshots asked for at {} were not reached",
+            r.time(),
+            missed
+                .iter()
+                .map(|t| t.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    // what the run recorded beside its parameters
+    let mut extra: Vec<(String, toml::Value)> = vec![
+        ("regime".into(), toml::Value::String(regime_name.into())),
+        ("stop_step".into(), toml::Value::Integer(r.time() as i64)),
+        (
+            "stop_reason".into(),
+            toml::Value::String(stop_reason.into()),
+        ),
+    ];
+    if let Some(d) = a.duration {
+        extra.push(("duration_s".into(), toml::Value::Float(d)));
+    }
+    if let Some(t) = a.wave_period {
+        extra.push(("wave_period_s".into(), toml::Value::Float(t)));
+    }
+    if let Some(c) = clock {
+        extra.push(("step_duration_s".into(), toml::Value::Float(c.step_s)));
+    }
 
     let mut written = Vec::new();
     if let Some(out) = &out {
         match spec.format {
             Format::NetCdf => {
-                write_netcdf(out, &r, &snaps, &spec)?;
+                write_netcdf_with(out, &r, &snaps, &spec, &extra)?;
                 written.push(out.clone());
             }
-            Format::Npy => written.extend(write_npy(out, &r, &snaps, &spec)?),
+            Format::Npy => written.extend(write_npy_with(out, &r, &snaps, &spec, &extra)?),
             Format::Zarr => {
-                cellsurf::ripple::zarr::write_zarr(out, &r, &snaps, &spec)?;
+                cellsurf::ripple::zarr::write_zarr_with(out, &r, &snaps, &spec, &extra)?;
                 written.push(out.clone());
             }
         }
@@ -552,17 +793,17 @@ pub fn run(a: Args) -> Result<()> {
             "predictor": predicted.source,
             "predicted_crest_normal_deg": cellsurf::ripple::predictors::rubin_hunter_crest_normal(&p),
             "domain_length_along_flow_m": along,
-            "x_axis_direction_deg": p.frame_angle(),
+            "x_axis_direction_deg": p.x_axis_direction_deg(),
         });
         let mut own = serde_json::json!({
-            "regime": reg.regime.name(),
+            "regime": regime_name,
             "shields": reg.shields,
             "shields_critical": reg.shields_critical,
             "bed_shear_stress_pa": reg.bed_shear_stress,
             "ripple_regime_speeds_m_per_s": [lo, hi],
             "coarse_sand": reg.coarse,
             "wave_period_s": (wave_period_s > 0.0).then(|| num(wave_period_s)),
-            "wave_period_steps": (p.wave_period > 0.0).then_some(p.wave_period),
+            "wave_period_steps": (p.wave_period > 0.0 && p.wave_amplitude > 0.0).then_some(p.wave_period),
             "orbital_diameter_m": (wave_period_s > 0.0).then(|| num(p.wave_amplitude * wave_period_s / std::f64::consts::PI)),
             "step_duration_s": clock.map(|c| num(c.step_s)),
             "simulated_time_s": clock.map(|c| num(c.step_s * s.steps as f64)),
@@ -594,8 +835,17 @@ pub fn run(a: Args) -> Result<()> {
             "creeps": s.creeps,
             "bytes_per_automaton": r.bytes_per_automaton(),
         });
-        if let (Some(o), serde_json::Value::Object(w)) = (own.as_object_mut(), waves_and_checks) {
-            o.extend(w);
+        let record = serde_json::json!({
+            "duration_s": a.duration,
+            "until": p.until,
+            "stop_step": r.time(),
+            "stop_reason": stop_reason,
+            "single_bedform": an.single_bedform,
+        });
+        for extra in [waves_and_checks, record] {
+            if let (Some(o), serde_json::Value::Object(w)) = (own.as_object_mut(), extra) {
+                o.extend(w);
+            }
         }
         let v = conv::envelope("ripple", &p, elapsed, own)?;
         outln!("{}", serde_json::to_string(&v)?)?;
@@ -605,7 +855,7 @@ pub fn run(a: Args) -> Result<()> {
             s.steps,
             match clock {
                 Some(c) => format!("{:.0} s simulated", c.step_s * s.steps as f64),
-                None => reg.regime.name().to_string(),
+                None => regime_name.to_string(),
             },
             r.automata(),
             s.activations,

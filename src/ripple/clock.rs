@@ -46,6 +46,32 @@ pub fn meyer_peter_mueller(theta: f64, d: f64) -> f64 {
     8.0 * excess.powf(1.5) * (G * (s - 1.0) * d * d * d).sqrt()
 }
 
+/// The smallest free-stream speed, m/s, at which the model's rules carry a grain of `d` m one
+/// bin forward on a flat bed: its budget `friction x bin_size x hop_length x (theta /
+/// theta_cr - 1)` must pay the first hop, `friction x sqrt(bin_size^2 + (2 gd)^2) + gd` (onto
+/// the neighbour's top, Eqs. 1, 4, 7). Below it a triggered grain of that size stays (or
+/// creeps, which a flat bed does not allow), however large the transport law's bedload.
+pub fn model_threshold_speed(p: &RippleParams, d: f64) -> f64 {
+    let (dx, gd, mu) = (p.bin_size, p.layer_thickness, p.friction);
+    let cost = mu * (dx * dx + 4.0 * gd * gd).sqrt() + gd;
+    let stage = cost / (mu * dx * p.hop_length);
+    let theta = (1.0 + stage) * theta_cr(d);
+    (theta * (RHO_S - RHO_W) * G * d / (RHO_W * p.drag_coefficient)).sqrt()
+}
+
+/// [`model_threshold_speed`] of the run's finest grain class and of its median grain: (finest,
+/// median), m/s. Below the first no grain of the model moves on a flat bed; between the two
+/// only the rare fine grains do.
+pub fn model_threshold_speeds(p: &RippleParams) -> (f64, f64) {
+    let classes = super::grain::GrainClasses::new(p.d50, p.sorting);
+    let finest = classes
+        .d
+        .iter()
+        .map(|&d| model_threshold_speed(p, d))
+        .fold(f64::INFINITY, f64::min);
+    (finest, model_threshold_speed(p, p.d50 * 1e-3))
+}
+
 /// Whether the run has a wave.
 fn has_wave(p: &RippleParams) -> bool {
     p.wave_period > 0.0 && p.wave_amplitude > 0.0
@@ -62,9 +88,9 @@ pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
         .lattice_wave_angle()
         .unwrap_or(p.lattice_current_angle())
         .to_radians();
-    (0..64)
+    (0..PHASES)
         .map(|k| {
-            let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0).sin();
+            let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / PHASES as f64).sin();
             let ux = p.current_speed * c.cos() + p.wave_stress_amplitude() * s * w.cos();
             let uy = p.current_speed * c.sin() + p.wave_stress_amplitude() * s * w.sin();
             ux.hypot(uy)
@@ -115,6 +141,14 @@ impl StepClock {
         })
     }
 
+    /// Whether the model's grains move on the flat bed (a positive travel): false when the
+    /// transport law moves sand but the rules carry none of the measured grains a bin (flows
+    /// just above the threshold of motion, [`model_threshold_speeds`]); the step then has no
+    /// duration.
+    pub fn grains_move(&self) -> bool {
+        self.travel > 0.0 && self.step_s.is_finite() && self.step_s > 0.0
+    }
+
     /// Steps that make `seconds` (at least 1), or an error naming `--duration` when the
     /// transport law moves nothing.
     pub fn steps_for(&self, seconds: f64) -> Result<u64, RippleError> {
@@ -127,7 +161,11 @@ impl StepClock {
             return Err(RippleError::Range {
                 parameter: "duration",
                 value: shown.clone(),
-                expected: "a flow that moves sand (the transport law gives no bedload here, so a step has no duration)".into(),
+                expected: if self.bedload > 0.0 {
+                    "a flow whose grains move in the model (the rules carry no grain a bin on a flat bed here, so a step has no duration)".into()
+                } else {
+                    "a flow that moves sand (the transport law gives no bedload here, so a step has no duration)".into()
+                },
             });
         }
         let n = (seconds / self.step_s).round();
@@ -146,8 +184,13 @@ impl StepClock {
     }
 }
 
+/// The phases of the wave cycle the flux is averaged over ([`phase_speeds`],
+/// [`flat_bed_travel`]).
+pub const PHASES: u64 = 64;
+
 /// The flat calibration patch of the run `p`: its sediment and flow on 32 x 32 columns (64 x 1
-/// in 2-D), seeded from the run's seed.
+/// in 2-D), a wave (if any) of [`PHASES`] steps, so that its steps `0..PHASES` are the phases
+/// `(k + 1/2) / PHASES` of one whole cycle whatever the run's period in steps.
 fn patch(p: &RippleParams) -> RippleParams {
     let (nx, ny) = if p.mode == Mode::TwoD {
         (64, 1)
@@ -158,9 +201,16 @@ fn patch(p: &RippleParams) -> RippleParams {
         nx,
         ny,
         roughness: 0,
-        seed: p.seed ^ 0x5EED_C10C,
+        wave_period: if has_wave(p) { PHASES as f64 } else { 0.0 },
+        until: None,
         ..p.clone()
     }
+}
+
+/// The calibration patch's own random stream, derived from the run's seed (any seed of
+/// [`RippleParams::validate`]'s range; the derived value is not a parameter).
+fn patch_stream(p: &RippleParams) -> u64 {
+    p.seed ^ 0x5EED_C10C
 }
 
 /// The mean distance (m) an activated grain travels on a flat bed of the run's sediment and
@@ -170,12 +220,12 @@ pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
     let q = patch(p);
     let (nx, ny) = (q.nx, q.rows());
     let h0 = q.layers.max(1);
-    let mut r = Ripple::from_heights(&q, &vec![h0; nx * ny])?;
+    let mut r = Ripple::from_heights_seeded(&q, &vec![h0; nx * ny], patch_stream(p))?;
     let eps = porosity(r.compaction().initial_code());
-    // the wave's phases: step k of a 64-step period is phase (k + 1/2) / 64, whatever the
-    // run's period (so the step duration does not depend on it)
+    // the wave's phases: step k of the patch's 64-step period is phase (k + 1/2) / 64, whatever
+    // the run's period (so the step duration does not depend on it)
     let phases: Vec<u64> = if has_wave(p) {
-        (0..64).collect()
+        (0..PHASES).collect()
     } else {
         vec![0]
     };
@@ -269,5 +319,66 @@ mod tests {
                 .to_string()
                 .contains("duration")
         );
+    }
+
+    #[test]
+    fn the_largest_seed_has_a_clock() {
+        let p = RippleParams {
+            nx: 16,
+            ny: 8,
+            layers: 8,
+            seed: 1 << 53,
+            ..RippleParams::default()
+        };
+        let c = StepClock::of(&p).unwrap();
+        assert!(c.grains_move(), "{c:?}");
+    }
+
+    #[test]
+    fn the_step_does_not_depend_on_the_wave_period_in_steps() {
+        let p = RippleParams {
+            nx: 16,
+            ny: 8,
+            layers: 8,
+            current_speed: 0.3,
+            wave_amplitude: 0.3,
+            wave_angle: Some(30.0),
+            wave_friction_factor: 0.01,
+            wave_period: 64.0,
+            ..RippleParams::default()
+        };
+        let c = StepClock::of(&p).unwrap();
+        for period in [2.5, 412.2, 1e6] {
+            let q = RippleParams {
+                wave_period: period,
+                ..p.clone()
+            };
+            assert_eq!(StepClock::of(&q).unwrap(), c, "{period}");
+        }
+    }
+
+    #[test]
+    fn grains_move_from_the_model_threshold() {
+        // one grain class: the rules move it from model_threshold_speed on
+        let p = RippleParams {
+            sorting: 0.0,
+            ..RippleParams::default()
+        };
+        let (finest, median) = model_threshold_speeds(&p);
+        assert_eq!(finest, median);
+        // above the transport law's threshold (0.262 m/s), below the model's (0.351 m/s)
+        assert!((median - 0.351).abs() < 0.001, "{median}");
+        let at = |u: f64| {
+            StepClock::of(&RippleParams {
+                current_speed: u,
+                ..p.clone()
+            })
+            .unwrap()
+        };
+        let below = at(0.995 * median);
+        assert!(below.bedload > 0.0 && !below.grains_move(), "{below:?}");
+        let e = below.steps_for(20.0).unwrap_err().to_string();
+        assert!(e.contains("rules carry no grain"), "{e}");
+        assert!(at(1.005 * median).grains_move());
     }
 }

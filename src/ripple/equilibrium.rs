@@ -110,6 +110,7 @@ mod tests {
             stoss_slope_deg: 0.0,
             symmetry_index: 1.0,
             faces: 0,
+            single_bedform: false,
             d50_crest_mm: 0.2,
             d50_trough_mm: 0.2,
         }

@@ -145,7 +145,7 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
             .get_global_attr_f64("x_axis_direction_deg")
             .and_then(|v| v.first().copied())
         {
-            Some(a) if a == params.frame_angle() => Frame::Flow,
+            Some(a) if (a - params.frame_angle()).rem_euclid(360.0) == 0.0 => Frame::Flow,
             _ => Frame::Grid,
         },
     };

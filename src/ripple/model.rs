@@ -96,8 +96,19 @@ impl Ripple {
     /// column capacity); grain classes drawn as in [`Ripple::new`]. Zero heights are bare spots
     /// (the substrate, which never erodes).
     pub fn from_heights(p: &RippleParams, heights: &[usize]) -> Result<Self, RippleError> {
+        Self::from_heights_seeded(p, heights, p.seed)
+    }
+
+    /// [`Ripple::from_heights`] with the random stream of `stream_seed` instead of `p.seed`
+    /// (any 64-bit value: a stream derived from the run's seed, which is not itself a
+    /// parameter and is not validated as one).
+    pub fn from_heights_seeded(
+        p: &RippleParams,
+        heights: &[usize],
+        stream_seed: u64,
+    ) -> Result<Self, RippleError> {
         p.validate()?;
-        let rng = rng::stream(p.seed);
+        let rng = rng::stream(stream_seed);
         Self::build(p, heights, rng)
     }
 

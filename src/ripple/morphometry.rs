@@ -14,6 +14,9 @@
 //!   the middle half of the drop (between 25 % and 75 % of it below the crest), the straight
 //!   part of the face: this is the slip-face angle of a lee face, without the rounded crest
 //!   and the flat trough that a mean over the whole face would include.
+//! - **One bedform per domain length**: where a profile holds no lee face and stoss face in
+//!   one period (its crest or trough on the period's ends), the profiles run on around the torus
+//!   and the faces starting in one period are measured ([`Faces::around`]).
 //! - **Height** is the mean face height (crest to trough), the ripple index the spectral
 //!   wavelength over it ([`super::Analysis`]).
 
@@ -34,6 +37,10 @@ pub struct Faces {
     pub lee_length_m: f64,
     /// Mean horizontal length of the stoss faces (trough to crest), m.
     pub stoss_length_m: f64,
+    /// Whether the faces were measured around the torus: at most one bedform per domain length
+    /// along the flow (one crest and one trough per profile), whose wavelength is then the
+    /// domain's length.
+    pub around: bool,
 }
 
 impl Faces {
@@ -48,27 +55,51 @@ impl Faces {
 /// `angle` (radians from +x): (samples, spacing m). Each profile runs downstream over one
 /// period of the dominant axis.
 pub fn flow_profiles(z: &[f64], nx: usize, ny: usize, dx: f64, angle: f64) -> (Vec<Vec<f64>>, f64) {
+    flow_profiles_over(z, nx, ny, dx, angle, 1)
+}
+
+/// [`flow_profiles`] running on around the torus for `periods` periods of the dominant axis.
+pub fn flow_profiles_over(
+    z: &[f64],
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    angle: f64,
+    periods: usize,
+) -> (Vec<Vec<f64>>, f64) {
     let (c, s) = (angle.cos(), angle.sin());
     if ny == 1 {
-        let p = if c >= 0.0 {
-            z.to_vec()
-        } else {
-            (0..nx).map(|j| z[(nx - j) % nx]).collect()
-        };
+        let p = (0..periods * nx)
+            .map(|j| {
+                if c >= 0.0 {
+                    z[j % nx]
+                } else {
+                    z[(nx - j % nx) % nx]
+                }
+            })
+            .collect();
         return (vec![p], dx);
     }
     if c.abs() >= s.abs() {
-        along_x(z, nx, ny, dx, c, s)
+        along_x(z, nx, ny, dx, c, s, periods)
     } else {
         // A current closer to y: the same march on the transposed field, x and y swapped.
         let zt: Vec<f64> = (0..nx * ny).map(|i| z[(i % ny) * nx + i / ny]).collect();
-        along_x(&zt, ny, nx, dx, s, c)
+        along_x(&zt, ny, nx, dx, s, c, periods)
     }
 }
 
-/// Profiles marching along x (one per row, `|cos| >= |sin|`), y drifting by `tan` per bin,
-/// with linear interpolation between rows.
-fn along_x(z: &[f64], nx: usize, ny: usize, dx: f64, c: f64, s: f64) -> (Vec<Vec<f64>>, f64) {
+/// Profiles marching along x (one per row, `|cos| >= |sin|`) over `periods` periods, y
+/// drifting by `tan` per bin, with linear interpolation between rows.
+fn along_x(
+    z: &[f64],
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    c: f64,
+    s: f64,
+    periods: usize,
+) -> (Vec<Vec<f64>>, f64) {
     let at = |x: isize, y: isize| {
         let x = x.rem_euclid(nx as isize) as usize;
         let y = y.rem_euclid(ny as isize) as usize;
@@ -78,7 +109,7 @@ fn along_x(z: &[f64], nx: usize, ny: usize, dx: f64, c: f64, s: f64) -> (Vec<Vec
     let sign = if c >= 0.0 { 1 } else { -1 };
     let profiles = (0..ny)
         .map(|y0| {
-            (0..nx as isize)
+            (0..(periods * nx) as isize)
                 .map(|j| {
                     let i = sign * j;
                     let yf = y0 as f64 + t * i as f64;
@@ -176,15 +207,44 @@ pub fn faces(z: &[f64], nx: usize, ny: usize, dx: f64, gd: f64, angle: f64) -> F
 /// The hysteresis of [`faces`], in standard deviations of the bed.
 pub const HYSTERESIS_SD: f64 = 0.5;
 
-/// [`faces`] with the hysteresis `delta` (m) given.
+/// [`faces`] with the hysteresis `delta` (m) given. Faces are found on each profile over one
+/// period; where that finds no pair of a lee and a stoss face (at most one bedform per domain
+/// length: the crest or the trough falls on the profile's ends, which a face cannot cross),
+/// they are found on the profiles run on around the torus, counting the faces that start in
+/// one period, so that a domain-long bedform is measured too ([`Faces::around`]).
 pub fn faces_with(z: &[f64], nx: usize, ny: usize, dx: f64, angle: f64, delta: f64) -> Faces {
     let (profiles, step) = flow_profiles(z, nx, ny, dx, angle);
+    let f = measure(&profiles, step, delta, None);
+    if f.lee_faces > 0 && f.stoss_faces > 0 {
+        return f;
+    }
+    let (long, step) = flow_profiles_over(z, nx, ny, dx, angle, 3);
+    let n = long.first().map_or(0, |p| p.len() / 3);
+    let g = measure(&long, step, delta, Some(n..2 * n));
+    if g.lee_faces > 0 && g.stoss_faces > 0 {
+        Faces { around: true, ..g }
+    } else {
+        f
+    }
+}
+
+/// The faces of `profiles` (samples `step` m apart) with hysteresis `delta`, those starting in
+/// `starts` only when given.
+fn measure(
+    profiles: &[Vec<f64>],
+    step: f64,
+    delta: f64,
+    starts: Option<std::ops::Range<usize>>,
+) -> Faces {
     let mut f = Faces::default();
     let (mut h, mut tl, mut ts, mut ll, mut ls) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for p in &profiles {
+    for p in profiles {
         let ex = extrema(p, delta);
         for w in ex.windows(2) {
             let ((a, crest_a), (b, _)) = (w[0], w[1]);
+            if starts.as_ref().is_some_and(|r| !r.contains(&a)) {
+                continue;
+            }
             let drop = (p[a] - p[b]).abs();
             let top = p[a].max(p[b]);
             let (up, lo) = (
@@ -286,5 +346,29 @@ mod tests {
     fn extrema_alternate() {
         let p = [0.0, 1.0, 3.0, 2.9, 1.0, 0.0, 0.2, 2.0, 0.5];
         assert_eq!(extrema(&p, 1.0), vec![(2, true), (5, false), (7, true)]);
+    }
+
+    #[test]
+    fn a_domain_long_bedform_is_measured_around_the_torus() {
+        // one sawtooth over the whole domain, its crest and trough away from the ends
+        for shift in [0, 5, 17] {
+            let base = sawtooth(24, 4, 18, 6, 0.012);
+            let z: Vec<f64> = (0..24 * 4)
+                .map(|i| base[(i / 24) * 24 + (i % 24 + shift) % 24])
+                .collect();
+            let f = faces(&z, 24, 4, 0.005, 0.0005, 0.0);
+            assert!((f.height_m - 0.012).abs() < 1e-9, "{shift}: {f:?}");
+            assert!(f.around, "{shift}");
+            assert_eq!((f.lee_faces, f.stoss_faces), (4, 4), "{shift}");
+            assert!((f.symmetry_index() - 3.0).abs() < 1e-9, "{f:?}");
+            // and in 2-D, against the current
+            let row = &z[..24];
+            let g = faces(row, 24, 1, 0.005, 0.0005, std::f64::consts::PI);
+            assert!((g.height_m - 0.012).abs() < 1e-9, "{g:?}");
+            assert!((g.symmetry_index() - 1.0 / 3.0).abs() < 1e-9, "{g:?}");
+        }
+        // two bedforms: measured in one period, as before
+        let f = faces(&sawtooth(48, 4, 18, 6, 0.012), 48, 4, 0.005, 0.0005, 0.0);
+        assert!(!f.around && f.height_m > 0.0, "{f:?}");
     }
 }

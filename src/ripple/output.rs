@@ -294,6 +294,22 @@ pub fn write_netcdf(
     snapshots: &[(u64, Vec<f32>)],
     spec: &OutputSpec,
 ) -> Result<(), RippleError> {
+    write_netcdf_with(path, r, snapshots, spec, &[])
+}
+
+/// What a run recorded beside its parameters (global attributes of the NetCDF file and the
+/// Zarr store, keys of the `.npy` sidecar): e.g. the duration asked for in seconds, the wave
+/// period in seconds, why and where a run stopped.
+pub type RunAttributes = [(String, toml::Value)];
+
+/// [`write_netcdf`] with the run's own attributes `extra` ([`RunAttributes`]).
+pub fn write_netcdf_with(
+    path: &Path,
+    r: &Ripple,
+    snapshots: &[(u64, Vec<f32>)],
+    spec: &OutputSpec,
+    extra: &RunAttributes,
+) -> Result<(), RippleError> {
     let (nx, ny) = r.size();
     let p = r.params();
     let nz = volume_levels(r);
@@ -406,8 +422,17 @@ pub fn write_netcdf(
         .map_err(|x| out_err(path, x))?;
     // The direction of the x axis (degrees counter-clockwise from east): 0 unless the lattice
     // runs in the flow's frame.
-    ds.add_global_attr_f64("x_axis_direction_deg", vec![p.frame_angle()])
+    ds.add_global_attr_f64("x_axis_direction_deg", vec![p.x_axis_direction_deg()])
         .map_err(|x| out_err(path, x))?;
+    for (k, v) in extra {
+        match v {
+            toml::Value::Integer(i) => ds.add_global_attr_f64(k, vec![*i as f64]),
+            toml::Value::Float(f) => ds.add_global_attr_f64(k, vec![*f]),
+            toml::Value::String(s) => ds.add_global_attr_string(k, s),
+            other => ds.add_global_attr_string(k, other.to_string()),
+        }
+        .map_err(|x| out_err(path, x))?;
+    }
 
     crate::engine::io::check_output("output", path).map_err(|x| io_err(path, x))?;
     let tmp = crate::engine::io::TempFile::new(path);
@@ -509,6 +534,17 @@ pub fn write_npy(
     snapshots: &[(u64, Vec<f32>)],
     spec: &OutputSpec,
 ) -> Result<Vec<PathBuf>, RippleError> {
+    write_npy_with(out, r, snapshots, spec, &[])
+}
+
+/// [`write_npy`] with the run's own attributes `extra` ([`RunAttributes`]) in the sidecar.
+pub fn write_npy_with(
+    out: &Path,
+    r: &Ripple,
+    snapshots: &[(u64, Vec<f32>)],
+    spec: &OutputSpec,
+    extra: &RunAttributes,
+) -> Result<Vec<PathBuf>, RippleError> {
     let (nx, ny) = r.size();
     let stem = out.with_extension("");
     let file = |suffix: &str| {
@@ -562,15 +598,26 @@ pub fn write_npy(
         params.push(format!("    {}: {val}", json_string(&k)));
     }
     let times: Vec<String> = snapshots.iter().map(|s| s.0.to_string()).collect();
+    let run: String = extra
+        .iter()
+        .map(|(k, v)| {
+            let val = match v {
+                toml::Value::String(s) => json_string(s),
+                toml::Value::Float(f) if !f.is_finite() => "null".into(),
+                other => other.to_string(),
+            };
+            format!("  {}: {val},\n", json_string(k))
+        })
+        .collect();
     let json = format!(
-        "{{\n  \"cellsurf_version\": {},\n  \"model\": \"ripple\",\n  \"steps_done\": {},\n  \"automata\": {},\n  \"elevation_times\": [{}],\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"x_axis_direction_deg\": {},\n  \"fill\": \"NaN above the bed\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",
+        "{{\n  \"cellsurf_version\": {},\n  \"model\": \"ripple\",\n{run}  \"steps_done\": {},\n  \"automata\": {},\n  \"elevation_times\": [{}],\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"x_axis_direction_deg\": {},\n  \"fill\": \"NaN above the bed\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",
         json_string(VERSION),
         r.time(),
         r.automata(),
         times.join(", "),
         r.params().bin_size,
         r.params().layer_thickness,
-        r.params().frame_angle(),
+        r.params().x_axis_direction_deg(),
         entries.join(",\n"),
         params.join(",\n")
     );

@@ -125,8 +125,12 @@ pub struct RippleParams {
     /// Layer thickness gd (height of one automaton), m, > 0 and <= `bin_size`.
     /// Default 0.0005 (0.5 mm).
     pub layer_thickness: f64,
-    /// Steps to run. Default 10000.
+    /// Steps to run (the cap with `until`). Default 10000.
     pub steps: u64,
+    /// Stop early: `equilibrium` (the field is mature, [`super::equilibrium`]), with `steps`
+    /// the cap; absent: run every step. Left out of files when absent. Default absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub until: Option<String>,
     /// Fraction of the automata triggered per step (the paper's 0.1 %), in (0, 1].
     /// Default 0.001.
     pub activity: f64,
@@ -219,6 +223,7 @@ impl Default for RippleParams {
             bin_size: 0.005,
             layer_thickness: 0.0005,
             steps: 10000,
+            until: None,
             activity: 0.001,
             d50: 0.2,
             sorting: 0.5,
@@ -257,12 +262,38 @@ fn range(parameter: &'static str, value: impl fmt::Display, expected: &str) -> R
 
 /// A number as an error message shows it: in scientific notation when very large or very
 /// small (`1e300`, not three hundred digits), as written otherwise.
-pub(crate) fn shown(v: f64) -> String {
+pub fn shown(v: f64) -> String {
     if v.is_finite() && v != 0.0 && !(1e-6..1e9).contains(&v.abs()) {
         format!("{v:e}")
     } else {
         v.to_string()
     }
+}
+
+/// Keys of older scenario files that were renamed: (old, new).
+pub const RENAMED_KEYS: [(&str, &str); 1] = [("recovery_length", "drag_delay")];
+
+/// A scenario parsing error `msg`, with a hint when it is about a renamed key
+/// ([`RENAMED_KEYS`]).
+pub fn renamed_key_hint(msg: &str) -> String {
+    for (old, new) in RENAMED_KEYS {
+        if msg.contains(&format!("unknown field `{old}`")) {
+            return format!(
+                "{msg}\n`{old}` was renamed `{new}` (the same value, bins per slice): rename the key"
+            );
+        }
+    }
+    msg.to_string()
+}
+
+/// A positive number to four significant digits (`0.0003124`), for limits computed from
+/// other parameters.
+pub fn rounded(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return shown(v);
+    }
+    let decimals = (3 - v.log10().floor() as i64).clamp(0, 17) as usize;
+    format!("{v:.decimals$}")
 }
 
 /// Whether a number is zero (left out of scenario and output files).
@@ -297,7 +328,8 @@ impl RippleParams {
     /// Reads a TOML scene: the same keys as the fields, unknown keys rejected, missing keys
     /// default. The result is validated.
     pub fn from_toml(text: &str) -> Result<Self, RippleError> {
-        let p: RippleParams = toml::from_str(text).map_err(|e| RippleError::Toml(e.to_string()))?;
+        let p: RippleParams = toml::from_str(text)
+            .map_err(|e| RippleError::Toml(renamed_key_hint(&e.to_string())))?;
         p.validate()?;
         Ok(p)
     }
@@ -377,6 +409,20 @@ impl RippleParams {
     /// The waves' direction on the lattice, degrees, when they have their own.
     pub fn lattice_wave_angle(&self) -> Option<f64> {
         self.wave_angle.map(|w| w - self.frame_angle())
+    }
+
+    /// The slope of one automaton over one bin, degrees: `atan(layer_thickness / bin_size)`,
+    /// the smallest slope the lattice can make between two neighbouring columns (at most the
+    /// avalanche angle, [`RippleParams::validate`]).
+    pub fn lattice_slope_deg(&self) -> f64 {
+        (self.layer_thickness / self.bin_size).atan().to_degrees()
+    }
+
+    /// [`RippleParams::frame_angle`] as recorded in the outputs (`x_axis_direction_deg`):
+    /// degrees counter-clockwise from east, in [0, 360).
+    pub fn x_axis_direction_deg(&self) -> f64 {
+        let a = self.frame_angle().rem_euclid(360.0);
+        if a >= 360.0 { 0.0 } else { a + 0.0 }
     }
 
     /// Rows actually simulated: 1 in 2-D, `ny` in 3-D.
@@ -462,6 +508,11 @@ impl RippleParams {
         if self.steps > 1 << 40 {
             return Err(range("steps", self.steps, "an integer in [0, 2^40]"));
         }
+        if let Some(u) = &self.until
+            && u != "equilibrium"
+        {
+            return Err(range("until", u, "equilibrium (or absent)"));
+        }
         check_f("activity", self.activity, 0.0, 1.0, true, false)?;
         check_f("d50", self.d50, 0.01, 10.0, false, false)?;
         check_f("sorting", self.sorting, 0.0, 2.0, false, false)?;
@@ -508,6 +559,19 @@ impl RippleParams {
             true,
             true,
         )?;
+        if self.lattice_slope_deg() > self.avalanche_angle {
+            return Err(range(
+                "layer_thickness",
+                shown(self.layer_thickness),
+                &format!(
+                    "at most bin_size x tan(avalanche_angle) = {} m (bin_size = {} m, avalanche_angle = {} deg): one automaton of layer_thickness over one bin of bin_size is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold (the avalanche rule moves grains in whole automata)",
+                    rounded(self.bin_size * self.avalanche_angle.to_radians().tan()),
+                    shown(self.bin_size),
+                    self.avalanche_angle,
+                    self.lattice_slope_deg()
+                ),
+            ));
+        }
         check_f(
             "stoss_angle",
             self.stoss_angle,
@@ -697,5 +761,62 @@ mod tests {
         assert_eq!(e.frame_angle(), 0.0);
         assert_eq!(e.lattice_current_angle(), 180.0);
         assert_eq!(e.lattice_flow_angle(), 180.0);
+    }
+
+    #[test]
+    fn a_lattice_steeper_than_the_avalanche_angle_is_refused() {
+        // one automaton of 0.5 mm over 0.5 mm: 45 deg against 32
+        let p = RippleParams {
+            bin_size: 0.0005,
+            ..RippleParams::default()
+        };
+        assert!((p.lattice_slope_deg() - 45.0).abs() < 1e-12);
+        let e = p.validate().unwrap_err().to_string();
+        for name in ["layer_thickness", "bin_size", "avalanche_angle", "45.0 deg"] {
+            assert!(e.contains(name), "{name}: {e}");
+        }
+        // 26.6 deg against 20
+        let q = RippleParams {
+            bin_size: 0.001,
+            avalanche_angle: 20.0,
+            ..RippleParams::default()
+        };
+        assert!(
+            q.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("0.0003640 m")
+        );
+        // the defaults: 5.7 deg
+        assert!(RippleParams::default().validate().is_ok());
+    }
+
+    #[test]
+    fn the_x_axis_is_recorded_in_0_to_360() {
+        for (a, want) in [(360.0, 0.0), (-360.0, 0.0), (-10.0, 350.0), (30.0, 30.0)] {
+            let p = RippleParams {
+                current_angle: a,
+                ..RippleParams::default()
+            };
+            let x = p.x_axis_direction_deg();
+            assert_eq!(x, want, "{a}");
+            assert!(x.is_sign_positive());
+        }
+    }
+
+    #[test]
+    fn renamed_keys_and_until() {
+        let e = RippleParams::from_toml("recovery_length = 2")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("renamed `drag_delay`"), "{e}");
+        let p = RippleParams::from_toml("until = \"equilibrium\"").unwrap();
+        assert_eq!(p.until.as_deref(), Some("equilibrium"));
+        assert!(p.to_toml().contains("until = \"equilibrium\""));
+        assert!(!RippleParams::default().to_toml().contains("until"));
+        let e = RippleParams::from_toml("until = \"never\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("until = never is out of range"), "{e}");
     }
 }

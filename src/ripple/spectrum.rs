@@ -45,6 +45,10 @@ pub struct Analysis {
     pub symmetry_index: f64,
     /// Lee and stoss faces measured.
     pub faces: usize,
+    /// At most one bedform per domain length along the flow: its faces were measured around
+    /// the torus ([`super::morphometry::Faces::around`]) and its wavelength is the domain's
+    /// length.
+    pub single_bedform: bool,
     /// Median grain size of the surface automata on crests, mm.
     pub d50_crest_mm: f64,
     /// Median grain size of the surface automata in troughs, mm.
@@ -203,6 +207,7 @@ impl Analysis {
             stoss_slope_deg: f.stoss_slope_deg,
             symmetry_index: f.symmetry_index(),
             faces: f.lee_faces + f.stoss_faces,
+            single_bedform: f.around,
             d50_crest_mm: median_d_mm(r.classes(), &crest),
             d50_trough_mm: median_d_mm(r.classes(), &trough),
         }

@@ -65,6 +65,10 @@ pub struct SurfaceWave {
     pub k: f64,
 }
 
+/// The longest wave period, s, taken by the command line (`--wave-period`, with
+/// `--wave-velocity` or `--wave-height`).
+pub const MAX_PERIOD_S: f64 = 1000.0;
+
 impl SurfaceWave {
     /// A wave of `height` m, `period` s in `depth` m of water; refuses non-positive or
     /// non-finite values and breaking waves (module docs). The error names the option
@@ -72,7 +76,7 @@ impl SurfaceWave {
     pub fn new(height: f64, period: f64, depth: f64) -> Result<SurfaceWave, RippleError> {
         for (name, v, hi) in [
             ("wave_height", height, 100.0),
-            ("wave_period", period, 1000.0),
+            ("wave_period", period, MAX_PERIOD_S),
             ("water_depth", depth, 10_000.0),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= hi) {

@@ -66,6 +66,49 @@ pub fn write_zarr(
     snapshots: &[(u64, Vec<f32>)],
     spec: &OutputSpec,
 ) -> Result<(), RippleError> {
+    write_zarr_with(out, r, snapshots, spec, &[])
+}
+
+/// Checks, before a run, that `out` can take the store: its folder exists, and it is absent or
+/// already a Zarr store (which the run's store replaces); a file or another folder there is
+/// refused, never deleted.
+pub fn check_store_target(out: &Path) -> Result<(), RippleError> {
+    let dir = match out.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let refuse = |reason: String| RippleError::Output {
+        path: out.display().to_string(),
+        reason,
+    };
+    if !dir.is_dir() {
+        return Err(refuse(format!(
+            "the folder {} does not exist",
+            dir.display()
+        )));
+    }
+    match std::fs::symlink_metadata(out) {
+        Ok(m) if m.is_dir() && out.join("zarr.json").is_file() => Ok(()),
+        Ok(m) if m.is_dir() => Err(refuse(
+            "exists and is not a Zarr store (no zarr.json); remove it or choose another name".into(),
+        )),
+        Ok(_) => Err(refuse(
+            "exists and is not a folder (a Zarr store is a folder); remove it or choose another name"
+                .into(),
+        )),
+        Err(_) => Ok(()),
+    }
+}
+
+/// [`write_zarr`] with the run's own attributes `extra`
+/// ([`RunAttributes`](super::output::RunAttributes)) on the root group.
+pub fn write_zarr_with(
+    out: &Path,
+    r: &Ripple,
+    snapshots: &[(u64, Vec<f32>)],
+    spec: &OutputSpec,
+    extra: &super::output::RunAttributes,
+) -> Result<(), RippleError> {
     let (nx, ny) = r.size();
     let p = r.params();
     let nz = volume_levels(r);
@@ -137,7 +180,13 @@ pub fn write_zarr(
     group.insert("layer_thickness_m".into(), Value::from(p.layer_thickness));
     // the direction of the x axis, degrees counter-clockwise from east (the flow frame turns
     // the lattice with the flow)
-    group.insert("x_axis_direction_deg".into(), Value::from(p.frame_angle()));
+    group.insert(
+        "x_axis_direction_deg".into(),
+        Value::from(p.x_axis_direction_deg()),
+    );
+    for (k, v) in extra {
+        group.insert(k.clone(), toml_to_json(v));
+    }
     for (k, v) in toml_pairs(p) {
         group.insert(format!("param_{k}"), toml_to_json(&v));
     }
