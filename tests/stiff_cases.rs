@@ -816,3 +816,30 @@ fn scene_reports_clock_overflow_and_rejection_completes() {
     assert_eq!(r.last.accepted, 0);
     assert_eq!(r.last.time, 5000.0);
 }
+
+/// An unbounded run at n = 2000 takes its clock past the largest `f64` on a log clock: its
+/// observations and snapshots carry a finite base-10 log of it, where the time itself is `inf`.
+#[test]
+fn a_clock_past_the_largest_f64_keeps_a_finite_log() {
+    let mut c = SceneConfig::defaults(SceneKind::Grow);
+    c.width = 32;
+    c.height = 32;
+    c.n = 2000.0;
+    c.steps = 0;
+    c.events = Some(400);
+    c.snapshots.clear();
+    let r = scene::run(&c, &mut NoHooks).unwrap();
+    assert_eq!(r.stop, StopReason::Events);
+    let last = r.series.last().unwrap();
+    assert!(last.time.is_infinite(), "{}", last.time);
+    assert!(
+        last.log10_time.is_finite() && last.log10_time > 308.0,
+        "{}",
+        last.log10_time
+    );
+    assert!((last.log10_time - r.log10_clock).abs() < 1e-9);
+    // the logs never decrease along the series
+    for w in r.series.windows(2) {
+        assert!(w[1].log10_time >= w[0].log10_time);
+    }
+}

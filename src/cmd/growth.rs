@@ -629,12 +629,13 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
     for line in r.config.to_toml().lines() {
         s.push_str(&format!("# {line}\n"));
     }
-    s.push_str("time,accepted,occupied,surface_sites,front_radius_cv,axis_diagonal_ratio,mode1_amplitude,mean_elevation\n");
+    // log10_time stays finite where an unbounded run's time passed the largest f64 (inf).
+    s.push_str("time,accepted,occupied,surface_sites,front_radius_cv,axis_diagonal_ratio,mode1_amplitude,mean_elevation,log10_time\n");
     let f = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x}"));
     for o in &r.series {
         let v = o.values;
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{}\n",
             o.time,
             o.accepted,
             o.occupied,
@@ -642,7 +643,8 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
             f(v.front_radius_cv),
             f(v.axis_diagonal_ratio),
             f(v.mode1_amplitude),
-            f(v.mean_elevation)
+            f(v.mean_elevation),
+            o.log10_time
         ));
     }
     write_atomic(path, s.as_bytes())

@@ -112,13 +112,25 @@ pub const FIGURES: &[Figure] = &[
 /// Seeds averaged in the time-series charts.
 const CHART_SEEDS: u64 = 24;
 
+/// A panel's title: the timestep, whole while it is exact (at most 2^53), else rounded, else
+/// (past the largest `f64`) as a power of ten.
+fn clock_label(time: f64, log10_time: f64) -> String {
+    if time <= 9_007_199_254_740_992.0 {
+        format!("t = {time}")
+    } else if time.is_finite() {
+        format!("t = {time:.4e}")
+    } else {
+        format!("t = 10^{log10_time:.4}")
+    }
+}
+
 /// The snapshots of a run as panels.
 pub fn snapshot_panels(r: &RunResult) -> Vec<Panel> {
     let c = &r.config;
     r.snapshots
         .iter()
         .map(|s| Panel {
-            title: format!("t = {}", s.time),
+            title: clock_label(s.time, s.log10_time),
             field: CellField {
                 nx: c.width,
                 ny: c.height,

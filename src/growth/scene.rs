@@ -590,8 +590,11 @@ pub struct Observables {
 /// Observables at one time of the run.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Observation {
-    /// Timestep.
+    /// Timestep (`inf` once an unbounded run's clock passed the largest `f64`).
     pub time: f64,
+    /// Base-10 log of the timestep, finite however far the clock went (`-inf` at 0).
+    #[serde(skip)]
+    pub log10_time: f64,
     /// Accepted events so far.
     pub accepted: u64,
     /// Occupied cells.
@@ -606,8 +609,10 @@ pub struct Observation {
 /// The lattice at one timestep, in drawing states (0 empty, 1 surface, 2 occupied).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Snapshot {
-    /// Timestep.
+    /// Timestep (`inf` once an unbounded run's clock passed the largest `f64`).
     pub time: f64,
+    /// Base-10 log of the timestep, finite however far the clock went (`-inf` at 0).
+    pub log10_time: f64,
     /// Drawing state per cell, `y * width + x`.
     pub states: Vec<u8>,
 }
@@ -693,6 +698,7 @@ pub fn observe(cfg: &SceneConfig, g: &Growth) -> Observation {
     }
     Observation {
         time: g.time(),
+        log10_time: g.log10_time(),
         accepted: g.accepted(),
         occupied: g.occupied(),
         surface: g.surface().len(),
@@ -817,12 +823,15 @@ fn run_by_clock(
         }
         let t = Instant::now();
         while next_snap < snap_times.len() && snap_times[next_snap] as f64 <= cp {
+            let (time, log10_time) = if stop == StopReason::Completed || stop == StopReason::Stalled
+            {
+                (cp, cp.log10())
+            } else {
+                (g.time(), g.log10_time())
+            };
             snapshots.push(Snapshot {
-                time: if stop == StopReason::Completed || stop == StopReason::Stalled {
-                    cp
-                } else {
-                    g.time()
-                },
+                time,
+                log10_time,
                 states: g.field_states(),
             });
             next_snap += 1;
@@ -920,6 +929,7 @@ fn run_by_events(
                 let t = Instant::now();
                 snapshots.push(Snapshot {
                     time: g.time(),
+                    log10_time: g.log10_time(),
                     states: g.field_states(),
                 });
                 *observe_s += t.elapsed().as_secs_f64();
@@ -944,6 +954,7 @@ fn run_by_events(
     if hooks.wants_snapshots() {
         snapshots.push(Snapshot {
             time: g.time(),
+            log10_time: g.log10_time(),
             states: g.field_states(),
         });
     }
