@@ -460,6 +460,7 @@ impl SceneConfig {
         if !(1..=100_000).contains(&self.series) {
             return Err(range("series", self.series, "1 to 100000 points"));
         }
+
         let z = self.lattice.z();
         if self.ca_rule.is_empty() || self.ca_rule.iter().any(|&b| b == 0 || b > z) {
             return Err(range(
@@ -469,12 +470,14 @@ impl SceneConfig {
             ));
         }
         let (pw, ph) = lattice.physical_size();
+        // The height of the top row of cells: a flat layer must leave it empty.
+        let top_row = lattice.position(lattice.len() - 1).1;
         let s = self.start;
         let ok = match self.shape {
             Shape::Point => s.is_finite() && s >= 0.0,
             Shape::Square | Shape::Disc => s.is_finite() && s > 0.0 && s <= pw.min(ph),
             Shape::Cosine => s.is_finite() && s >= 0.0 && 2.0 * s + 0.1 * ph < ph,
-            Shape::Flat => s.is_finite() && s > 0.0 && s < ph,
+            Shape::Flat => s.is_finite() && s > 0.0 && s <= top_row,
         };
         if !ok {
             let expected = match self.shape {
@@ -492,7 +495,9 @@ impl SceneConfig {
                     0.45 * ph
                 ),
                 Shape::Flat => {
-                    format!("the layer must be > 0 and thinner than the lattice ({ph:.1})")
+                    format!(
+                        "the layer must be > 0 and leave the top row empty (at most {top_row:.2})"
+                    )
                 }
                 Shape::Point => "a finite size >= 0 cell widths (unused by a point)".into(),
             };
@@ -784,10 +789,14 @@ fn run_by_clock(
 ) -> Recorded {
     let steps = cfg.steps as f64;
     // Checkpoints: snapshots, series points, progress ticks and frames.
+    // (whole timesteps: a series longer than the run has one point per timestep)
     let series_times: Vec<f64> = if hooks.wants_series() {
-        (1..=cfg.series as u64)
+        let mut t: Vec<f64> = (1..=cfg.series as u64)
             .map(|k| (cfg.steps as u128 * k as u128 / cfg.series as u128) as f64)
-            .collect()
+            .filter(|&t| t > 0.0)
+            .collect();
+        t.dedup();
+        t
     } else {
         Vec::new()
     };
@@ -893,7 +902,9 @@ fn run_by_events(
     checkpoints.push(events);
     checkpoints.sort_unstable();
     checkpoints.dedup();
-    let series_at: Vec<u64> = spaced(ticks).collect();
+    // (one point per event at most)
+    let mut series_at: Vec<u64> = spaced(ticks).filter(|&e| e > 0).collect();
+    series_at.dedup();
     let snap_times: Vec<u64> = if hooks.wants_snapshots() {
         cfg.snapshots.clone()
     } else {
@@ -951,7 +962,8 @@ fn run_by_events(
         }
         hooks.progress((g.accepted() - start) as f64, events as f64);
     }
-    if hooks.wants_snapshots() {
+    // The final state, unless a snapshot at the clock limit just drew it.
+    if hooks.wants_snapshots() && snapshots.last().is_none_or(|s| s.time != g.time()) {
         snapshots.push(Snapshot {
             time: g.time(),
             log10_time: g.log10_time(),
@@ -1077,6 +1089,48 @@ mod tests {
         c.ca_rule = vec![1, 2];
         let r = run(&c, &mut NoHooks).unwrap();
         assert!(r.last.accepted > 0);
+    }
+
+    #[test]
+    fn series_and_snapshots_never_repeat_a_time() {
+        // A series longer than the run: one point per timestep, none twice.
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.width = 32;
+        c.height = 32;
+        c.steps = 10;
+        c.snapshots = vec![10];
+        c.series = 1000;
+        let r = run(&c, &mut NoHooks).unwrap();
+        let times: Vec<f64> = r.series.iter().map(|o| o.time).collect();
+        assert_eq!(times, (0..=10).map(f64::from).collect::<Vec<_>>());
+        // Per event, likewise.
+        c.steps = 0;
+        c.events = Some(5);
+        c.snapshots.clear();
+        let r = run(&c, &mut NoHooks).unwrap();
+        let acc: Vec<u64> = r.series.iter().map(|o| o.accepted).collect();
+        assert_eq!(acc, vec![0, 1, 2, 3, 4, 5]);
+        // An event run stopped by its clock at a snapshot time draws that state once.
+        c.steps = 50;
+        c.events = Some(100_000);
+        c.snapshots = vec![50];
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::Completed);
+        assert_eq!(r.snapshots.len(), 1);
+    }
+
+    #[test]
+    fn a_flat_layer_leaves_the_top_row_empty() {
+        // On a 32-row hex lattice the rows sit 0.866 apart: the top row at 26.85.
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.width = 32;
+        c.height = 32;
+        c.shape = Shape::Flat;
+        c.start = 27.7;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("start = 27.7") && e.contains("top row"), "{e}");
+        c.start = 26.8;
+        c.validate().unwrap();
     }
 
     #[test]
