@@ -212,3 +212,44 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
         "{err}"
     );
 }
+
+/// A small ripple NetCDF file.
+fn nc_ripple() -> PathBuf {
+    let r = tmp("small-ripple.nc");
+    if !r.exists() {
+        let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+        g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
+        let o = cellsurf(&g);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    r
+}
+
+#[test]
+fn npy_sidecars_are_checked_before_the_run_and_errors_are_words() {
+    let r = nc_ripple();
+    for (extra, stem, blocked) in [
+        (&[][..], "side-a", "side-a.json"),
+        (
+            &["--volume", "impedance"][..],
+            "side-b",
+            "side-b_impedance.npy",
+        ),
+    ] {
+        let out = tmp(&format!("{stem}.npy"));
+        std::fs::create_dir_all(tmp(blocked)).unwrap();
+        let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+        a.extend(extra);
+        a.extend(["--out", out.to_str().unwrap()]);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{err}");
+        assert!(err.contains("--out") && err.contains(blocked), "{err}");
+        assert!(err.contains("not a regular file"), "{err}");
+        assert!(
+            !err.contains("Custom {") && !err.contains("kind:") && !err.contains("Os {"),
+            "{err}"
+        );
+        assert!(!out.exists(), "no output on error");
+    }
+}

@@ -19,7 +19,7 @@ use cellsurf::ripple::output::{Field, toml_pairs};
 
 use super::conv::{self, Format, Outputs, Size};
 use cellsurf::tile::fractal::measured_slope;
-use cellsurf::tile::stream::{estimate_bytes, write_stream};
+use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::{
@@ -377,6 +377,13 @@ pub fn run(a: Args) -> Result<()> {
             check_store_path("--out", out)?;
         } else {
             cellsurf::engine::io::check_output("--out", out)?;
+            if format == StreamFormat::Npy {
+                // the volume field's file and the JSON sidecar beside NAME.npy
+                for side in npy_files(out, a.volume).iter().skip(1) {
+                    let opt = format!("--out {}: its file", out.display());
+                    cellsurf::engine::io::check_output(&opt, side)?;
+                }
+            }
         }
     }
     if !zarr && (part.is_some() || a.init || a.chunk_tiles.is_some()) {
