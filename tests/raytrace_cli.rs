@@ -365,3 +365,60 @@ fn unreadable_seafloor_files_give_short_errors() {
         "{e}"
     );
 }
+
+#[test]
+fn a_netcdf_mosaic_and_its_zarr_store_give_the_same_section() {
+    // 3.7 mm bins: the float32 `x` spacing of the NetCDF file is 0.0036999999 m; the recorded
+    // bin size is exact, as the store's
+    let (nc, zarr) = (tmp("bins.nc"), tmp("bins.zarr"));
+    let _ = std::fs::remove_dir_all(&zarr);
+    for out in [&nc, &zarr] {
+        let o = cellsurf(&[
+            "tile",
+            "--generate",
+            "--size",
+            "24x12",
+            "--layers",
+            "10",
+            "--steps",
+            "40",
+            "--bin-size",
+            "0.0037",
+            "--mosaic",
+            "4x4",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let section = |from: &PathBuf, name: &str| {
+        let out = tmp(name);
+        let o = cellsurf(&[
+            "raytrace",
+            "--seafloor",
+            from.to_str().unwrap(),
+            "--length",
+            "0.3",
+            "--azimuth",
+            "20",
+            "--water-depth",
+            "1",
+            "--source-depth",
+            "0.5",
+            "--quiet",
+            "--seafloor-csv-out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read_to_string(out)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (section(&nc, "bins_nc.csv"), section(&zarr, "bins_zarr.csv"));
+    assert!(a.len() > 50, "{}", a.len());
+    assert_eq!(a, b);
+}
