@@ -553,16 +553,33 @@ fn write_npy_stream(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tile::{Choose, Mosaic, Tile};
+
+    /// A flat surface of 8 x 6 bins.
+    struct Flat;
+
+    impl RowSource for Flat {
+        fn width(&self) -> usize {
+            8
+        }
+        fn height(&self) -> usize {
+            6
+        }
+        fn bin_size(&self) -> f64 {
+            0.01
+        }
+        fn tile_size(&self) -> (usize, usize) {
+            (4, 3)
+        }
+        fn fill_row(&self, _y: usize, out: &mut [f32]) {
+            out.fill(0.01);
+        }
+    }
 
     #[test]
     fn a_failed_write_says_what_went_wrong_in_words() {
         let dir = std::env::temp_dir().join(format!("cellsurf-stream-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(dir.join("m.json")).unwrap();
-        let e: Vec<f32> = (0..12).map(|i| i as f32 * 1e-3).collect();
-        let tile = Tile::from_elevation(4, 3, 0.01, e, "t").unwrap();
-        let mosaic = Mosaic::new(vec![tile], 2, 2, Choose::Same, 1, 0).unwrap();
         let spec = StreamSpec {
             format: StreamFormat::Npy,
             volume: None,
@@ -570,7 +587,7 @@ mod tests {
             params: Vec::new(),
             elevation_long_name: None,
         };
-        let err = write_stream(&dir.join("m.npy"), &mosaic, &spec, |_| {})
+        let err = write_stream(&dir.join("m.npy"), &Flat, &spec, |_| {})
             .unwrap_err()
             .to_string();
         // the I/O error's message, not its debug form (`Custom { kind: ... }`, `Os { code ... }`)
