@@ -292,8 +292,9 @@ fn check_regime(a: &Args, p: &RippleParams) -> Result<()> {
     Ok(())
 }
 
-/// The recorded parameters of the `--generate` runs (all of them in `ripple_scenario`, a TOML
-/// file that `--ripple-scenario` reads back, with the seed of the first run).
+/// The recorded parameters of the `--generate` runs (all of them but the seed in
+/// `ripple_scenario`, a TOML file that `--ripple-scenario` reads back; the runs' seeds are
+/// `--seeds`, else `--seed`, recorded as `seed` and in `tiles`).
 #[derive(Serialize)]
 struct RippleRecord {
     ripple_layers: usize,
@@ -308,14 +309,15 @@ struct RippleRecord {
 }
 
 impl RippleRecord {
-    fn of(p: &RippleParams, seed: u64) -> Result<RippleRecord> {
-        let q = RippleParams { seed, ..p.clone() };
+    fn of(p: &RippleParams) -> Result<RippleRecord> {
         let mut t = toml::Table::new();
         t.insert("model".into(), "ripple".into());
-        match toml::Value::try_from(&q)? {
+        match toml::Value::try_from(p)? {
             toml::Value::Table(own) => t.extend(own),
             _ => bail!("the ripple parameters are not a TOML table"),
         }
+        // the runs take their seeds from --seeds or --seed, never from the scenario
+        t.remove("seed");
         Ok(RippleRecord {
             ripple_layers: p.layers,
             ripple_steps: p.steps,
@@ -344,10 +346,7 @@ fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
         let seeds = run_seeds(a);
         let steps = a.snapshots.clone().unwrap_or_else(|| vec![p.steps]);
         let last = steps.iter().copied().max().unwrap_or(0);
-        record = Some(RippleRecord::of(
-            &p,
-            seeds.first().copied().unwrap_or(a.seed),
-        )?);
+        record = Some(RippleRecord::of(&p)?);
         let bar = bar(seeds.len() as u64 * last, "ripple tiles", quiet);
         tiles.extend(tiles_from_run(&p, &seeds, &steps, a.volume, |d| {
             if d % 64 == 0 {
