@@ -113,7 +113,7 @@ fn bad_input_is_a_clear_error() {
         (vec!["--ds", "-1"], "--ds = -1"),
         (
             vec!["--angle-min", "10", "--angle-max", "5"],
-            "--angle-max (max angle) = 5",
+            "--angle-max = 5 is out of range: expected at least --angle-min = 10",
         ),
         (vec!["--profile", "table"], "--profile-table"),
         (vec!["--water-depth", "0.001"], "--water-depth = 0.001"),
@@ -364,4 +364,269 @@ fn unreadable_seafloor_files_give_short_errors() {
         e.contains("No such file or directory") && !e.contains("Os {") && e.len() < 300,
         "{e}"
     );
+}
+
+/// Runs `raytrace` with `args` (a 2 m section), expecting a refusal that contains every one of
+/// `want`, without a panic or an output file.
+fn refused(args: &[&str], want: &[&str]) {
+    let out = tmp("refused.csv");
+    let mut a = vec!["raytrace", "--length", "2", "--out", out.to_str().unwrap()];
+    a.extend(args);
+    let o = cellsurf(&a);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} accepted: {e}");
+    for w in want {
+        assert!(e.contains(w), "{args:?}: {e}");
+    }
+    assert!(!e.contains("panicked"), "{e}");
+    assert!(!out.exists(), "no file on error");
+}
+
+#[test]
+fn errors_name_the_options_given() {
+    // the opening's limit, not an internal "max angle"
+    refused(
+        &["--opening", "20", "--centre-angle", "85"],
+        &[
+            "--centre-angle = 85 with --opening = 20",
+            "75 to 95",
+            "-90 to 90",
+        ],
+    );
+    refused(&["--angle-max", "95"], &["--angle-max = 95", "[-90, 90]"]);
+    refused(
+        &["--angle-min", "30"],
+        &["--angle-max = 25 (default) is out of range: expected at least --angle-min = 30"],
+    );
+    // the default source depth below a shallow floor: the flag and the floor's depth
+    let shallow = tmp("shallow.csv");
+    std::fs::write(&shallow, "x,depth\n0,5\n10,5.2\n20,5\n").unwrap();
+    refused(
+        &["--seafloor-csv", shallow.to_str().unwrap()],
+        &[
+            "--source-depth = 10 (default) is out of range",
+            "(0, 5) m",
+            "5 m deep",
+        ],
+    );
+    refused(
+        &[
+            "--seafloor-csv",
+            shallow.to_str().unwrap(),
+            "--source-range",
+            "30",
+        ],
+        &["--source-range = 30 is out of range", "0 to 20 m"],
+    );
+    // the generated floor's seed: the ripple model's range, named by the flag
+    refused(
+        &["--seed", "9007199254740993"],
+        &["--seed = 9007199254740993", "2^53"],
+    );
+    // any seed: at most 2^63 - 1, what a scenario file holds
+    refused(
+        &["--seed", "9223372036854775808"],
+        &["--seed = 9223372036854775808 is out of range", "2^63 - 1"],
+    );
+    refused(
+        &[
+            "--seafloor-csv",
+            shallow.to_str().unwrap(),
+            "--seed",
+            "18446744073709551615",
+        ],
+        &["--seed = 18446744073709551615 is out of range"],
+    );
+}
+
+#[test]
+fn options_of_another_profile_are_refused() {
+    let ssp = "tests/fixtures/ssp.csv";
+    let temp = "tests/fixtures/temperature.csv";
+    refused(
+        &["--profile-table", ssp],
+        &[
+            "--profile-table applies to the table profile only",
+            "--profile isovelocity (default)",
+        ],
+    );
+    refused(
+        &["--gradient", "0.1"],
+        &["--gradient applies to the linear profile only"],
+    );
+    refused(
+        &["--profile", "munk", "--c0", "1490"],
+        &[
+            "--c0 applies to the isovelocity and linear profiles only",
+            "--profile munk",
+        ],
+    );
+    refused(
+        &["--profile", "linear", "--salinity", "30"],
+        &["--salinity applies to the mackenzie profile only"],
+    );
+    refused(
+        &[
+            "--profile",
+            "mackenzie",
+            "--temperature-table",
+            temp,
+            "--salinity",
+            "30",
+            "--salinity-table",
+            temp,
+        ],
+        &["--salinity and --salinity-table both given"],
+    );
+    // the options of the profile given are fine
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--profile",
+        "linear",
+        "--c0",
+        "1490",
+        "--gradient",
+        "0.1",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn outputs_are_checked_and_record_the_profile_table() {
+    refused(
+        &["--rays-csv", tmp("r.txt").to_str().unwrap()],
+        &["--rays-csv", "r.txt: expected a .csv file name"],
+    );
+    refused(
+        &["--seafloor-csv-out", tmp("x.bty").to_str().unwrap()],
+        &["--seafloor-csv-out", "x.bty: expected a .csv file name"],
+    );
+    let folder = tmp("folder.csv");
+    std::fs::create_dir_all(&folder).unwrap();
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--out",
+        folder.to_str().unwrap(),
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("exists and is not a regular file (a folder"),
+        "{e}"
+    );
+    // every output's header names the table the profile came from
+    let (csv, bty, floor) = (tmp("tab.csv"), tmp("tab.bty"), tmp("tab_floor.csv"));
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--profile",
+        "table",
+        "--profile-table",
+        "tests/fixtures/ssp.csv",
+        "--quiet",
+        "--out",
+        csv.to_str().unwrap(),
+        "--out",
+        bty.to_str().unwrap(),
+        "--seafloor-csv-out",
+        floor.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [&csv, &floor] {
+        let text = std::fs::read_to_string(f).unwrap();
+        assert!(
+            text.lines()
+                .any(|l| l == "# profile_table = tests/fixtures/ssp.csv"),
+            "{text}"
+        );
+    }
+    let first = std::fs::read_to_string(&bty).unwrap();
+    let first = first.lines().next().unwrap();
+    assert!(
+        first.contains("profile_table=tests/fixtures/ssp.csv"),
+        "{first}"
+    );
+}
+
+#[test]
+fn equal_fan_limits_launch_one_angle() {
+    // documented: equal limits (or an opening of 0) are one launch angle for every ray
+    for args in [
+        &["--angle-min", "10", "--angle-max", "10"][..],
+        &["--opening", "0", "--centre-angle", "10"][..],
+    ] {
+        let mut a = vec!["raytrace", "--length", "2", "--json"];
+        a.extend(args);
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(
+            v["run"]["angles_deg"],
+            serde_json::json!([10.0, 10.0]),
+            "{v}"
+        );
+    }
+}
+
+#[test]
+fn a_netcdf_mosaic_and_its_zarr_store_give_the_same_section() {
+    // 3.7 mm bins: the float32 `x` spacing of the NetCDF file is 0.0036999999 m; the recorded
+    // bin size is exact, as the store's
+    let (nc, zarr) = (tmp("bins.nc"), tmp("bins.zarr"));
+    let _ = std::fs::remove_dir_all(&zarr);
+    for out in [&nc, &zarr] {
+        let o = cellsurf(&[
+            "tile",
+            "--generate",
+            "--size",
+            "24x12",
+            "--layers",
+            "10",
+            "--steps",
+            "40",
+            "--bin-size",
+            "0.0037",
+            "--mosaic",
+            "4x4",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let section = |from: &PathBuf, name: &str| {
+        let out = tmp(name);
+        let o = cellsurf(&[
+            "raytrace",
+            "--seafloor",
+            from.to_str().unwrap(),
+            "--length",
+            "0.3",
+            "--azimuth",
+            "20",
+            "--water-depth",
+            "1",
+            "--source-depth",
+            "0.5",
+            "--quiet",
+            "--seafloor-csv-out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read_to_string(out)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect::<Vec<_>>()
+    };
+    let (a, b) = (section(&nc, "bins_nc.csv"), section(&zarr, "bins_zarr.csv"));
+    assert!(a.len() > 50, "{}", a.len());
+    assert_eq!(a, b);
 }

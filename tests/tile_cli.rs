@@ -212,3 +212,209 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
         "{err}"
     );
 }
+
+#[test]
+fn generate_checks_the_flow_regime_and_the_scenario_model() {
+    // sheet flow: the ripple model's own regime test refuses it, as `cellsurf ripple` does
+    let sheet = tmp("sheet.toml");
+    std::fs::write(&sheet, "model = \"ripple\"\ncurrent_speed = 1.5\n").unwrap();
+    let out = tmp("sheet.nc");
+    let mut a = GEN.to_vec();
+    a.extend(["--ripple-scenario", sheet.to_str().unwrap()]);
+    a.extend(["--mosaic", "1x1", "--out", out.to_str().unwrap()]);
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "sheet flow accepted: {err}");
+    assert!(
+        err.contains("current_speed = 1.5") && err.contains("sheet flow"),
+        "{err}"
+    );
+    assert!(err.contains("expected a largest speed of"), "{err}");
+    assert!(!out.exists());
+    // below the threshold of motion nothing would move
+    std::fs::write(&sheet, "model = \"ripple\"\ncurrent_speed = 0.1\n").unwrap();
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "no motion accepted: {err}");
+    assert!(err.contains("below the threshold of motion"), "{err}");
+    // a scenario of another model is named
+    std::fs::write(&sheet, "model = \"dunes\"\n").unwrap();
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "a dunes scenario accepted: {err}");
+    assert!(err.contains("model = \"dunes\" is out of range"), "{err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_generated_mosaic_records_its_ripple_runs_and_reproduces_from_them() {
+    let first = tmp("gen-a.npy");
+    let mut a = GEN.to_vec();
+    a.extend(["--activity", "0.002", "--mosaic", "2x1", "--quiet"]);
+    a.extend(["--out", first.to_str().unwrap()]);
+    assert!(cellsurf(&a).status.success());
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(first.with_extension("json")).unwrap())
+            .unwrap();
+    let p = &side["parameters"];
+    assert_eq!(p["ripple_layers"], 10, "{p}");
+    assert_eq!(p["ripple_steps"], 40, "{p}");
+    assert_eq!(p["ripple_activity"], 0.002, "{p}");
+    assert_eq!(p["ripple_d50_mm"], 0.2, "{p}");
+    assert_eq!(p["ripple_current_speed"], 0.5, "{p}");
+    assert_eq!(p["ripple_wave_amplitude"], 0.0, "{p}");
+    // the whole parameter set, read back as the ripple scenario, gives the same bytes
+    let scenario = tmp("gen-a.toml");
+    std::fs::write(&scenario, p["ripple_scenario"].as_str().unwrap()).unwrap();
+    let second = tmp("gen-b.npy");
+    let o = cellsurf(&[
+        "tile",
+        "--generate",
+        "--ripple-scenario",
+        scenario.to_str().unwrap(),
+        "--mosaic",
+        "2x1",
+        "--quiet",
+        "--out",
+        second.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read(&first).unwrap(),
+        std::fs::read(&second).unwrap()
+    );
+    // NetCDF: the same record as global attributes
+    let nc = tmp("gen-a.nc");
+    let mut a = GEN.to_vec();
+    a.extend(["--mosaic", "1x1", "--quiet", "--out", nc.to_str().unwrap()]);
+    assert!(cellsurf(&a).status.success());
+    let bytes = std::fs::read(&nc).unwrap();
+    let has = |s: &str| bytes.windows(s.len()).any(|w| w == s.as_bytes());
+    assert!(has("param_ripple_scenario") && has("param_ripple_d50_mm"));
+    assert!(has("current_speed = 0.5"));
+    // tiles read from a file carry their own record: no ripple_* parameters
+    let m = tmp("from-file.npy");
+    let o = cellsurf(&[
+        "tile",
+        "--tile",
+        nc_ripple().to_str().unwrap(),
+        "--mosaic",
+        "1x1",
+        "--quiet",
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let side = std::fs::read_to_string(m.with_extension("json")).unwrap();
+    assert!(!side.contains("ripple_scenario"), "{side}");
+}
+
+/// A small ripple NetCDF file.
+fn nc_ripple() -> PathBuf {
+    let r = tmp("small-ripple.nc");
+    if !r.exists() {
+        let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+        g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
+        let o = cellsurf(&g);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    r
+}
+
+#[test]
+fn npy_sidecars_are_checked_before_the_run_and_errors_are_words() {
+    let r = nc_ripple();
+    for (extra, stem, blocked) in [
+        (&[][..], "side-a", "side-a.json"),
+        (
+            &["--volume", "impedance"][..],
+            "side-b",
+            "side-b_impedance.npy",
+        ),
+    ] {
+        let out = tmp(&format!("{stem}.npy"));
+        std::fs::create_dir_all(tmp(blocked)).unwrap();
+        let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+        a.extend(extra);
+        a.extend(["--out", out.to_str().unwrap()]);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{err}");
+        assert!(err.contains("--out") && err.contains(blocked), "{err}");
+        assert!(err.contains("not a regular file"), "{err}");
+        assert!(
+            !err.contains("Custom {") && !err.contains("kind:") && !err.contains("Os {"),
+            "{err}"
+        );
+        assert!(!out.exists(), "no output on error");
+    }
+}
+
+#[test]
+fn generate_options_need_generate_and_angles_have_the_ripple_range() {
+    let r = nc_ripple();
+    for (extra, want) in [
+        (
+            &["--size", "32x16"][..],
+            "--size applies to tiles generated",
+        ),
+        (&["--steps", "30"][..], "--steps applies to tiles generated"),
+        (
+            &["--layers", "12"][..],
+            "--layers applies to tiles generated",
+        ),
+        (&["--nx", "32"][..], "--nx applies to tiles generated"),
+        (
+            &["--seeds", "1,2"][..],
+            "--seeds applies to tiles generated",
+        ),
+        (
+            &["--dunes", "--current-angle", "400"][..],
+            "--current-angle = 400 is out of range: expected -360 to 360",
+        ),
+        (
+            &["--dunes", "--current-angle", "-1e9"][..],
+            "--current-angle = -1000000000 is out of range",
+        ),
+        (
+            &["--seed", "9223372036854775808"][..],
+            "--seed = 9223372036854775808 is out of range: expected an integer in [0, 2^63 - 1",
+        ),
+    ] {
+        let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+        a.extend(extra);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{extra:?} accepted");
+        assert!(err.contains(want), "{extra:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // the edge of the range is accepted
+    let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
+    a.extend(["--dunes", "--dune-grid", "24", "--current-angle", "-360"]);
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // generated runs: the seeds the ripple model takes (to 2^53), named by the flag given
+    for (extra, want) in [
+        (
+            &["--seed", "9007199254740993"][..],
+            "--seed = 9007199254740993",
+        ),
+        (
+            &["--seeds", "1,9223372036854775808"][..],
+            "--seeds = 9223372036854775808 is out of range",
+        ),
+        (
+            &["--seeds", "1,9007199254740993"][..],
+            "--seeds = 9007199254740993",
+        ),
+    ] {
+        let mut a = GEN.to_vec();
+        a.extend(extra);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{extra:?} accepted");
+        assert!(err.contains(want), "{extra:?}: {err}");
+        assert!(err.contains("2^53") || err.contains("2^63"), "{err}");
+    }
+}

@@ -246,21 +246,152 @@ fn floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
     Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
 }
 
+/// The fan's launch angles, degrees below the horizontal, from `--angle-min`/`--angle-max` or
+/// `--opening`/`--centre-angle`; errors name the options given and the valid range.
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
     let limits = conv::typed("angle_min") || conv::typed("angle_max");
+    let flag = |id: &str, v: f64| {
+        let f = conv::typed_flag(id).unwrap_or_default();
+        if conv::typed(id) {
+            format!("{f} = {v}")
+        } else {
+            format!("{f} = {v} (default)")
+        }
+    };
     match (a.opening, a.centre_angle) {
         (Some(_), Some(_)) if limits => {
             bail!("give either --opening with --centre-angle, or --angle-min/--angle-max")
         }
         (Some(o), Some(c)) => {
+            // an opening of 0 is one launch angle for every ray (documented)
             if !(o.is_finite() && (0.0..=180.0).contains(&o)) {
-                bail!("opening = {o} is out of range: expected degrees in [0, 180]");
+                bail!("--opening = {o} is out of range: expected degrees in [0, 180]");
             }
-            Ok((c - o / 2.0, c + o / 2.0))
+            let (lo, hi) = (c - o / 2.0, c + o / 2.0);
+            if !(c.is_finite() && lo >= -90.0 && hi <= 90.0) {
+                bail!(
+                    "--centre-angle = {c} with --opening = {o} is out of range: it gives launch angles {lo} to {hi} degrees; expected both within -90 to 90 degrees below the horizontal (|--centre-angle| + --opening / 2 at most 90)"
+                );
+            }
+            Ok((lo, hi))
         }
-        (None, None) => Ok((a.angle_min, a.angle_max)),
+        (None, None) => {
+            for (id, v) in [("angle_min", a.angle_min), ("angle_max", a.angle_max)] {
+                if !(v.is_finite() && (-90.0..=90.0).contains(&v)) {
+                    bail!(
+                        "{} is out of range: expected degrees below the horizontal in [-90, 90]",
+                        flag(id, v)
+                    );
+                }
+            }
+            // equal limits are one launch angle for every ray (documented)
+            if a.angle_min > a.angle_max {
+                bail!(
+                    "{} is out of range: expected at least {} (degrees below the horizontal, up to 90)",
+                    flag("angle_max", a.angle_max),
+                    flag("angle_min", a.angle_min)
+                );
+            }
+            Ok((a.angle_min, a.angle_max))
+        }
         _ => bail!("--opening and --centre-angle go together"),
     }
+}
+
+/// Options of one sound-speed profile given with another, and `--salinity` with
+/// `--salinity-table`: refused, naming both (they would be ignored).
+fn check_profile_options(a: &Args) -> Result<()> {
+    use ProfileKind::*;
+    let applies: [(&str, &[ProfileKind], &str); 6] = [
+        ("c0", &[Isovelocity, Linear], "isovelocity and linear"),
+        ("gradient", &[Linear], "linear"),
+        ("profile_table", &[Table], "table"),
+        ("temperature_table", &[Mackenzie], "mackenzie"),
+        ("salinity_table", &[Mackenzie], "mackenzie"),
+        ("salinity", &[Mackenzie], "mackenzie"),
+    ];
+    let name = |k: ProfileKind| match k {
+        Isovelocity => "isovelocity",
+        Linear => "linear",
+        Munk => "munk",
+        Table => "table",
+        Mackenzie => "mackenzie",
+    };
+    let profile = if conv::typed("profile") {
+        format!("--profile {}", name(a.profile))
+    } else {
+        format!("--profile {} (default)", name(a.profile))
+    };
+    for (id, kinds, names) in applies {
+        if conv::typed(id) && !kinds.contains(&a.profile) {
+            bail!(
+                "{} applies to the {names} profile{} only, not {profile}: leave it out or give --profile {}",
+                conv::typed_flag(id).unwrap_or_default(),
+                if kinds.len() > 1 { "s" } else { "" },
+                name(kinds[0])
+            );
+        }
+    }
+    if conv::typed("salinity") && conv::typed("salinity_table") {
+        bail!(
+            "--salinity and --salinity-table both given: expected one of them (a constant salinity, or a table of depth, salinity rows)"
+        );
+    }
+    Ok(())
+}
+
+/// The largest seed: 2^63 - 1, the largest integer a TOML scenario file holds.
+const MAX_SEED: u64 = i64::MAX as u64;
+
+/// `--seed` within `0 ..= MAX_SEED`, and within the ripple model's range when it seeds the
+/// generated floor (checked by the ripple model).
+fn check_seed(a: &Args) -> Result<()> {
+    if a.seed > MAX_SEED {
+        bail!(
+            "--seed = {} is out of range: expected an integer in [0, 2^63 - 1 = {MAX_SEED}] (the largest a scenario file holds)",
+            a.seed
+        );
+    }
+    if a.seafloor.is_none() && a.seafloor_csv.is_none() {
+        cellsurf::ripple::RippleParams {
+            seed: a.seed,
+            ..cellsurf::ripple::RippleParams::default()
+        }
+        .validate()
+        .map_err(|e| anyhow::anyhow!("--seed = {} of the generated ripple floor: {e}", a.seed))?;
+    }
+    Ok(())
+}
+
+/// The source S in the water above the floor at its range; errors name `--source-range` and
+/// `--source-depth` (marked when they are the defaults) and the floor's depth there.
+fn check_source(a: &Args, fl: &Seafloor) -> Result<()> {
+    let flag = |id: &str, v: f64| {
+        let f = conv::typed_flag(id).unwrap_or_default();
+        if conv::typed(id) {
+            format!("{f} = {v}")
+        } else {
+            format!("{f} = {v} (default)")
+        }
+    };
+    let (x0, x1) = fl.x_range();
+    let x = a.source_range;
+    if !(x.is_finite() && x >= x0 && x <= x1) {
+        bail!(
+            "{} is out of range: expected a range within the seafloor section, {x0} to {x1} m",
+            flag("source_range", x)
+        );
+    }
+    let zb = fl.depth_at(x).unwrap_or(0.0);
+    let z = a.source_depth;
+    if !(z.is_finite() && z > 0.0 && z < zb) {
+        bail!(
+            "{} is out of range: expected a depth in (0, {zb}) m, below the surface and above the floor, which is {zb} m deep at {}",
+            flag("source_depth", z),
+            flag("source_range", x)
+        );
+    }
+    Ok(())
 }
 
 /// The output options given, as (option, path).
@@ -276,23 +407,23 @@ fn outputs<'a>(a: &'a Args, outs: &'a Outputs) -> Vec<(&'static str, &'a Path)> 
     .collect()
 }
 
-/// Before any work: every output's directory exists, and no two outputs are the same file.
+/// Before any work: every output is a file name with its option's extension in an existing
+/// folder, not a folder or a link, and no two outputs are the same file.
 fn check_outputs(a: &Args, outs: &Outputs) -> Result<()> {
     let outs = outputs(a, outs);
     for (i, &(opt, p)) in outs.iter().enumerate() {
-        if p.file_name().is_none() || p.is_dir() {
+        if p.file_name().is_none() {
             bail!("{opt} {}: not a file name", p.display());
         }
-        let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
-        if let Some(d) = dir
-            && !d.is_dir()
+        if matches!(opt, "--rays-csv" | "--seafloor-csv-out")
+            && !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"))
         {
             bail!(
-                "{opt} {}: the directory {} does not exist",
-                p.display(),
-                d.display()
+                "{opt} {}: expected a .csv file name (the file is CSV)",
+                p.display()
             );
         }
+        cellsurf::engine::io::check_output(opt, p)?;
         if let Some(&(other, _)) = outs[..i].iter().find(|(_, q)| *q == p) {
             bail!("{opt} {}: the same file as {other}", p.display());
         }
@@ -309,8 +440,13 @@ pub fn run(a: Args) -> Result<()> {
         ("section length", "length"),
     ]);
     conv::set_quiet(a.quiet);
+    // before the scenario merge, which cannot hold a larger seed
+    if a.seed > MAX_SEED {
+        check_seed(&a)?;
+    }
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
+    check_seed(&a)?;
     if a.print_scenario {
         out!("{}", conv::scenario_text(&a, "raytrace")?)?;
         return Ok(());
@@ -319,10 +455,12 @@ pub fn run(a: Args) -> Result<()> {
     outs.add_legacy(Format::Bty, a.bty.as_ref())?;
     let start = Instant::now();
     check_outputs(&a, &outs)?;
+    check_profile_options(&a)?;
+    let (amin, amax) = fan_angles(&a)?;
     let prof = profile(&a)?;
     let (fl, kind, chunks_read) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl)?;
-    let (amin, amax) = fan_angles(&a)?;
+    check_source(&a, &fl)?;
     let (x0, x1) = fl.x_range();
     let max_path = a.max_path.unwrap_or(3.0 * (x1 - x0 + fl.max_depth()));
     let trace = TraceOptions {
@@ -352,8 +490,25 @@ pub fn run(a: Args) -> Result<()> {
         };
         insonify(&tracer, &fan, &o)?
     };
-    let mut params: Vec<(String, String)> = vec![
-        ("profile".into(), prof.describe()),
+    let mut params: Vec<(String, String)> = vec![("profile".into(), prof.describe())];
+    // the files the profile was read from
+    let tables = match a.profile {
+        ProfileKind::Table => vec![("profile_table", &a.profile_table)],
+        ProfileKind::Mackenzie => vec![
+            ("temperature_table", &a.temperature_table),
+            ("salinity_table", &a.salinity_table),
+        ],
+        _ => Vec::new(),
+    };
+    for (k, p) in tables {
+        if let Some(p) = p {
+            params.push((k.into(), p.display().to_string()));
+        }
+    }
+    if a.profile == ProfileKind::Mackenzie && a.salinity_table.is_none() {
+        params.push(("salinity_ppt".into(), a.salinity.to_string()));
+    }
+    params.extend::<[(String, String); 8]>([
         ("source_range_m".into(), a.source_range.to_string()),
         ("source_depth_m".into(), a.source_depth.to_string()),
         ("angles_deg".into(), format!("{amin} to {amax}")),
@@ -369,7 +524,7 @@ pub fn run(a: Args) -> Result<()> {
                 "rays".into()
             },
         ),
-    ];
+    ]);
     match (&a.seafloor_csv, &a.seafloor) {
         (Some(p), _) => params.push(("seafloor".into(), format!("csv {}", p.display()))),
         (None, Some(p)) => params.push((

@@ -19,7 +19,7 @@ use cellsurf::ripple::output::{Field, toml_pairs};
 
 use super::conv::{self, Format, Outputs, Size};
 use cellsurf::tile::fractal::measured_slope;
-use cellsurf::tile::stream::{estimate_bytes, write_stream};
+use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::{
@@ -34,6 +34,7 @@ use cellsurf::tile::{
     after_help = "Examples:\n  \
         cellsurf tile --generate --size 64x32 --mosaic 8x8 --out mosaic.nc\n  \
         cellsurf tile --tile bed.nc --extent 20x20 --dunes --out dunes.npy --json\n  \
+        cellsurf tile --generate --size 64x32 --mosaic 16x16 --out mosaic.zarr   # Zarr v3 store\n  \
         cellsurf tile --generate --size 100x100 --bin-size 0.01 --extent 1000x1000 --dry-run --out km.nc"
 )]
 pub struct Args {
@@ -187,6 +188,9 @@ struct Recorded {
     steering: f64,
     dune_grid: usize,
     x_axis_direction_deg: f64,
+    /// The parameters of the `--generate` runs (absent without `--generate`).
+    #[serde(flatten)]
+    ripple: Option<RippleRecord>,
 }
 
 fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Result<(T, T)> {
@@ -206,7 +210,14 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
             let mut t: toml::Table = text
                 .parse()
                 .with_context(|| format!("--ripple-scenario {} is not TOML", path.display()))?;
-            t.remove("model");
+            match t.remove("model") {
+                None => {}
+                Some(toml::Value::String(m)) if m == "ripple" => {}
+                Some(m) => bail!(
+                    "--ripple-scenario {}: model = {m} is out of range: expected \"ripple\" (a scenario of `cellsurf ripple`)",
+                    path.display()
+                ),
+            }
             toml::Value::Table(t)
                 .try_into()
                 .with_context(|| format!("in --ripple-scenario {}", path.display()))?
@@ -224,10 +235,104 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
     }
     p.validate()?;
+    for &seed in &run_seeds(a) {
+        let flag = if a.seeds.is_some() {
+            "--seeds"
+        } else {
+            "--seed"
+        };
+        RippleParams { seed, ..p.clone() }
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{flag} = {seed} for the --generate runs: {e}"))?;
+    }
+    check_regime(a, &p)?;
     Ok(p)
 }
 
-fn pool(a: &Args, quiet: bool) -> Result<Vec<Tile>> {
+/// The seeds of the `--generate` runs: `--seeds`, else `--seed`.
+fn run_seeds(a: &Args) -> Vec<u64> {
+    a.seeds.clone().unwrap_or_else(|| vec![a.seed])
+}
+
+/// The flow regime of the `--generate` runs, judged by the ripple model's own test
+/// ([`cellsurf::ripple::regime::regime`]): sheet flow and no motion are refused (the tiles would
+/// be beds the model's rules do not describe, or the unmoved starting bed), coarse sand noted.
+fn check_regime(a: &Args, p: &RippleParams) -> Result<()> {
+    use cellsurf::ripple::regime::{D50_RIPPLES_MAX_MM, Regime, THETA_SHEET_FLOW, regime};
+    let r = regime(p);
+    let (lo, hi) = r.ripple_speeds;
+    let from = match &a.ripple_scenario {
+        Some(f) => format!("--ripple-scenario {}", f.display()),
+        None => "the ripple defaults".into(),
+    };
+    let flow = format!(
+        "current_speed = {} m/s with waves of near-bed orbital velocity wave_amplitude = {} m/s ({from})",
+        p.current_speed, p.wave_amplitude
+    );
+    match r.regime {
+        Regime::SheetFlow => bail!(
+            "{flow} is out of range for --generate: its largest speed, {:.3} m/s, gives a Shields number of {:.2} on d50 = {} mm, above {THETA_SHEET_FLOW}: sheet flow, where ripples are washed out into a flat bed and the rules of the ripple model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            r.speed,
+            r.shields,
+            p.d50
+        ),
+        Regime::NoMotion => bail!(
+            "{flow} is out of range for --generate: its largest speed, {:.3} m/s, gives a Shields number of {:.3} on d50 = {} mm, below the threshold of motion {:.3}: no sand moves and the tiles would be the unmoved starting bed; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            r.speed,
+            r.shields,
+            p.d50,
+            r.shields_critical
+        ),
+        Regime::Ripples if r.coarse => conv::note(format_args!(
+            "d50 = {} mm is above {D50_RIPPLES_MAX_MM} mm: coarse sand forms no current ripples in nature (Soulsby 1997, Sect. 7.2); the model still applies its rules",
+            p.d50
+        )),
+        Regime::Ripples => {}
+    }
+    Ok(())
+}
+
+/// The recorded parameters of the `--generate` runs (all of them but the seed in
+/// `ripple_scenario`, a TOML file that `--ripple-scenario` reads back; the runs' seeds are
+/// `--seeds`, else `--seed`, recorded as `seed` and in `tiles`).
+#[derive(Serialize)]
+struct RippleRecord {
+    ripple_layers: usize,
+    ripple_steps: u64,
+    ripple_d50_mm: f64,
+    ripple_current_speed: f64,
+    ripple_current_angle: f64,
+    ripple_wave_amplitude: f64,
+    ripple_wave_period: f64,
+    ripple_activity: f64,
+    ripple_scenario: String,
+}
+
+impl RippleRecord {
+    fn of(p: &RippleParams) -> Result<RippleRecord> {
+        let mut t = toml::Table::new();
+        t.insert("model".into(), "ripple".into());
+        match toml::Value::try_from(p)? {
+            toml::Value::Table(own) => t.extend(own),
+            _ => bail!("the ripple parameters are not a TOML table"),
+        }
+        // the runs take their seeds from --seeds or --seed, never from the scenario
+        t.remove("seed");
+        Ok(RippleRecord {
+            ripple_layers: p.layers,
+            ripple_steps: p.steps,
+            ripple_d50_mm: p.d50,
+            ripple_current_speed: p.current_speed,
+            ripple_current_angle: p.current_angle,
+            ripple_wave_amplitude: p.wave_amplitude,
+            ripple_wave_period: p.wave_period,
+            ripple_activity: p.activity,
+            ripple_scenario: toml::to_string(&t)?,
+        })
+    }
+}
+
+fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
     let mut tiles = Vec::new();
     for f in &a.tile {
         tiles.extend(
@@ -235,11 +340,13 @@ fn pool(a: &Args, quiet: bool) -> Result<Vec<Tile>> {
                 .with_context(|| format!("--tile {}", f.display()))?,
         );
     }
+    let mut record = None;
     if a.generate {
         let p = ripple_params(a)?;
-        let seeds = a.seeds.clone().unwrap_or_else(|| vec![a.seed]);
+        let seeds = run_seeds(a);
         let steps = a.snapshots.clone().unwrap_or_else(|| vec![p.steps]);
         let last = steps.iter().copied().max().unwrap_or(0);
+        record = Some(RippleRecord::of(&p)?);
         let bar = bar(seeds.len() as u64 * last, "ripple tiles", quiet);
         tiles.extend(tiles_from_run(&p, &seeds, &steps, a.volume, |d| {
             if d % 64 == 0 {
@@ -251,7 +358,7 @@ fn pool(a: &Args, quiet: bool) -> Result<Vec<Tile>> {
     if tiles.is_empty() {
         bail!("no tiles: give --tile FILE.nc (repeatable) and/or --generate");
     }
-    Ok(tiles)
+    Ok((tiles, record))
 }
 
 fn bar(len: u64, msg: &str, quiet: bool) -> ProgressBar {
@@ -303,6 +410,23 @@ fn seam_json(s: &SeamStats) -> serde_json::Value {
     serde_json::json!({ "x": d(&s.x), "y": d(&s.y) })
 }
 
+/// The largest seed: 2^63 - 1, the largest integer a TOML scenario file holds.
+pub const MAX_SEED: u64 = i64::MAX as u64;
+
+/// `--seed` and `--seeds` within `0 ..= MAX_SEED`.
+fn check_seeds(a: &Args) -> Result<()> {
+    let seeds = std::iter::once(("--seed", a.seed))
+        .chain(a.seeds.iter().flatten().map(|&s| ("--seeds", s)));
+    for (flag, s) in seeds {
+        if s > MAX_SEED {
+            bail!(
+                "{flag} = {s} is out of range: expected an integer in [0, 2^63 - 1 = {MAX_SEED}] (the largest a scenario file holds)"
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
@@ -323,6 +447,7 @@ pub fn run(a: Args) -> Result<()> {
         a.ripple_scenario = Some(p);
         a.scenario = None;
     }
+    check_seeds(&a)?;
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "tile")?;
     if a.print_scenario {
@@ -377,6 +502,13 @@ pub fn run(a: Args) -> Result<()> {
             check_store_path("--out", out)?;
         } else {
             cellsurf::engine::io::check_output("--out", out)?;
+            if format == StreamFormat::Npy {
+                // the volume field's file and the JSON sidecar beside NAME.npy
+                for side in npy_files(out, a.volume).iter().skip(1) {
+                    let opt = format!("--out {}: its file", out.display());
+                    cellsurf::engine::io::check_output(&opt, side)?;
+                }
+            }
         }
     }
     if !zarr && (part.is_some() || a.init || a.chunk_tiles.is_some()) {
@@ -409,6 +541,26 @@ pub fn run(a: Args) -> Result<()> {
             }
         }
     }
+    if !a.generate {
+        for id in [
+            "ripple_scenario",
+            "size",
+            "nx",
+            "ny",
+            "layers",
+            "steps",
+            "activity",
+            "bin_size",
+            "seeds",
+        ] {
+            if conv::typed(id) {
+                let flag = conv::typed_flag(id).unwrap_or_default();
+                bail!(
+                    "{flag} applies to tiles generated in-process only: add --generate (tiles from --tile files keep their own)"
+                );
+            }
+        }
+    }
     if a.dunes && a.volume.is_some() {
         bail!(
             "--volume with --dunes is not supported: the volume beneath rippled dunes would need the dune relief in z (write the mosaic's volume without --dunes)"
@@ -425,14 +577,17 @@ pub fn run(a: Args) -> Result<()> {
                 "--current-angle = {c} needs --dunes (it turns the ripple pattern on the dunes) or --generate (the current of the ripple runs); tiles from --tile files keep their own current"
             );
         }
-        if !c.is_finite() {
-            bail!("--current-angle = {c} is out of range: expected a finite angle in degrees");
+        // the ripple model's range (RippleParams::validate), for --dunes as for --generate
+        if !(c.is_finite() && (-360.0..=360.0).contains(&c)) {
+            bail!(
+                "--current-angle = {c} is out of range: expected -360 to 360 degrees (counter-clockwise from east)"
+            );
         }
     }
     if a.mosaic.is_some() && a.extent.is_some() {
         bail!("--mosaic and --extent both given: expected one of them");
     }
-    let tiles = pool(&a, quiet)?;
+    let (tiles, ripple_record) = pool(&a, quiet)?;
     let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);
     let (mx, my) = match (&a.mosaic, &a.extent) {
         (Some(m), _) => parse_pair::<usize>("mosaic", m, "3x3")?,
@@ -506,6 +661,7 @@ pub fn run(a: Args) -> Result<()> {
         steering: a.steering,
         dune_grid,
         x_axis_direction_deg: x_axis,
+        ripple: ripple_record,
     };
     let spec = StreamSpec {
         format,

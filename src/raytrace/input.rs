@@ -2,7 +2,8 @@
 //! [`read_surface`] takes either a ripple volume (`cellsurf ripple --out`: a `time` record
 //! dimension, read by [`crate::ripple::input::read`]) or a mosaic (`cellsurf tile --out`:
 //! `elevation(y, x)` with `y` the record dimension, coordinates `x`, `y` in m, and maybe a volume
-//! field `FIELD(y, z, x)`). A mosaic's bin size is the spacing of its `x` coordinate; its
+//! field `FIELD(y, z, x)`). A mosaic's bin size is its recorded `param_bin_size` (a double),
+//! else the spacing of its float32 `x` coordinate; its
 //! impedance is the top non-fill value of each column of an `impedance(y, z, x)` field, or none.
 //!
 //! A Zarr store (`cellsurf tile --out X.zarr`, feature `zarr`) is not read whole:
@@ -109,9 +110,16 @@ pub fn read_surface(path: &Path) -> Result<(RippleSurface, SurfaceKind), Raytrac
         r.read_var_f32(v)
             .map_err(|e| err(path, format!("{v}: {}", describe_read_error(&e))))
     };
+    // the recorded bin size (a double) when present: the float32 `x` spacing is off by up to
+    // a few parts in 1e7
+    let recorded = r
+        .data_set()
+        .get_global_attr_f64("param_bin_size")
+        .and_then(|v| v.first().copied());
     let xs = read(&mut r, "x")?;
-    let bin = match xs.as_slice() {
-        [a, b, ..] => f64::from(*b) - f64::from(*a),
+    let bin = match (recorded, xs.as_slice()) {
+        (Some(b), _) => b,
+        (None, [a, b, ..]) => f64::from(*b) - f64::from(*a),
         _ => {
             let ys = read(&mut r, "y")?;
             match ys.as_slice() {
@@ -124,7 +132,14 @@ pub fn read_surface(path: &Path) -> Result<(RippleSurface, SurfaceKind), Raytrac
     if !(bin.is_finite() && bin > 0.0) {
         return Err(err(
             path,
-            format!("bin size {bin} m from the 'x' coordinate"),
+            format!(
+                "bin size {bin} m from {}",
+                if recorded.is_some() {
+                    "the attribute 'param_bin_size'"
+                } else {
+                    "the 'x' coordinate"
+                }
+            ),
         ));
     }
     let elev = read(&mut r, "elevation")?;

@@ -257,10 +257,11 @@ impl Insonification {
 
     /// Length of the lit floor, m (the union of [`Insonification::lit`]).
     pub fn lit_length(&self, floor: &Seafloor) -> f64 {
+        // from +0 (a float sum starts from -0: an unlit floor would print as -0 %)
         self.lit
             .iter()
             .map(|&(a, b)| floor.length_between(a, b))
-            .sum()
+            .fold(0.0, |s, l| s + l)
     }
 
     /// Lit share of the floor's length (0 to 1): insonification by length, not by vertex.
@@ -776,6 +777,17 @@ mod tests {
         assert_eq!(reflection_coefficient(2.0, 2.0), 0.0);
         let r = reflection_coefficient(1962.0 * 1738.0, 1027.0 * 1500.0);
         assert!((r - 0.378).abs() < 1e-3, "{r}");
+    }
+
+    #[test]
+    fn an_unlit_floor_is_positive_zero() {
+        // a horizontal fan from 5 m never reaches a flat floor at 10 m
+        let xs: Vec<f64> = (0..=10).map(f64::from).collect();
+        let floor = Seafloor::new(xs, vec![10.0; 11], vec![]).unwrap();
+        let ins = straight_insonify_fan(&floor, 0.0, 5.0, 0.0, 0.0, 1500.0);
+        let (l, f) = (ins.lit_length(&floor), ins.length_fraction(&floor));
+        assert!(l == 0.0 && l.is_sign_positive(), "{l}");
+        assert!(f == 0.0 && f.is_sign_positive(), "{f}");
     }
 
     #[test]

@@ -151,11 +151,37 @@ pub fn estimate_bytes(src: &dyn RowSource, spec: &StreamSpec) -> u64 {
     }
 }
 
-fn out_err(path: &Path, e: impl std::fmt::Debug) -> TileError {
+fn out_err(path: &Path, e: impl std::fmt::Display) -> TileError {
     TileError::Output {
         path: path.display().to_string(),
-        reason: format!("{e:?}"),
+        reason: e.to_string(),
     }
+}
+
+/// A NetCDF writer's error as a message: an I/O error's own text, else the writer's
+/// description.
+fn nc_err(path: &Path, e: netcdf3::WriteError) -> TileError {
+    match e {
+        netcdf3::WriteError::IOErrorKind(k) => out_err(path, std::io::Error::from(k)),
+        other => out_err(path, format!("NetCDF-3 writer: {other:?}")),
+    }
+}
+
+/// The files of a `.npy` stream to `path`, in order: `STEM.npy` (elevation), `STEM_FIELD.npy`
+/// (the volume field, if any) and the JSON sidecar `STEM.json`.
+pub fn npy_files(path: &Path, volume: Option<Field>) -> Vec<PathBuf> {
+    let stem = path.with_extension("");
+    let named = |suffix: &str| {
+        let mut s = stem.as_os_str().to_owned();
+        s.push(suffix);
+        PathBuf::from(s)
+    };
+    let mut files = vec![named(".npy")];
+    if let Some(f) = volume {
+        files.push(named(&format!("_{}.npy", f.name())));
+    }
+    files.push(named(".json"));
+    files
 }
 
 /// Rows per block: at most 64 and about 64 MB of rows (and slabs), at least 1.
@@ -353,16 +379,16 @@ fn write_netcdf_stream(
             &tmp_str,
             Box::new(BufWriter::with_capacity(1 << 20, file)),
         )
-        .map_err(|x| out_err(path, x))?;
+        .map_err(|x| nc_err(path, x))?;
         wr.set_def(&ds, Version::Offset64Bit, 0)
-            .map_err(|x| out_err(path, x))?;
+            .map_err(|x| nc_err(path, x))?;
         let dx = src.bin_size();
         let xs: Vec<f32> = (0..w).map(|i| ((i as f64 + 0.5) * dx) as f32).collect();
-        wr.write_var_f32("x", &xs).map_err(|x| out_err(path, x))?;
+        wr.write_var_f32("x", &xs).map_err(|x| nc_err(path, x))?;
         if let Some(_f) = vol {
             let gd = src.layer_thickness();
             let zs: Vec<f32> = (0..nz).map(|k| ((k as f64 + 0.5) * gd) as f32).collect();
-            wr.write_var_f32("z", &zs).map_err(|x| out_err(path, x))?;
+            wr.write_var_f32("z", &zs).map_err(|x| nc_err(path, x))?;
         }
         let mut slab_nc = Vec::new();
         for_each_row(
@@ -371,9 +397,9 @@ fn write_netcdf_stream(
             |y, row, slab| {
                 meter.push_row(row);
                 wr.write_record_f32("y", y, &[((y as f64 + 0.5) * dx) as f32])
-                    .map_err(|x| out_err(path, x))?;
+                    .map_err(|x| nc_err(path, x))?;
                 wr.write_record_f32("elevation", y, row)
-                    .map_err(|x| out_err(path, x))?;
+                    .map_err(|x| nc_err(path, x))?;
                 if let Some(f) = vol {
                     slab_nc.clear();
                     slab_nc.extend(
@@ -381,13 +407,13 @@ fn write_netcdf_stream(
                             .map(|&v| if v.is_finite() { v } else { NC_FILL_F32 }),
                     );
                     wr.write_record_f32(f.name(), y, &slab_nc)
-                        .map_err(|x| out_err(path, x))?;
+                        .map_err(|x| nc_err(path, x))?;
                 }
                 Ok(())
             },
             progress,
         )?;
-        wr.close().map_err(|x| out_err(path, x))?;
+        wr.close().map_err(|x| nc_err(path, x))?;
         fs::File::open(&tmp)
             .and_then(|f| f.sync_all())
             .map_err(|x| out_err(path, x))?;
@@ -408,18 +434,14 @@ fn write_npy_stream(
     progress: impl FnMut(usize),
 ) -> Result<Vec<PathBuf>, TileError> {
     let (w, h) = (src.width(), src.height());
-    let stem = path.with_extension("");
-    let named = |suffix: &str| {
-        let mut s = stem.as_os_str().to_owned();
-        s.push(suffix);
-        PathBuf::from(s)
-    };
     let vol = spec.volume.filter(|_| nz > 0);
-    let mut finals = vec![named(".npy")];
-    if let Some(f) = vol {
-        finals.push(named(&format!("_{}.npy", f.name())));
+    let mut finals = npy_files(path, vol);
+    let side = finals.pop().unwrap_or_else(|| path.with_extension("json"));
+    // every file's place checked before any work (a sidecar that cannot be written would
+    // otherwise fail after the arrays)
+    for p in finals.iter().chain([&side]) {
+        crate::engine::io::check_output("output", p).map_err(|x| out_err(p, x))?;
     }
-    let side = named(".json");
     // Listed while alive, so that an interrupted run removes them (crate::engine::io).
     let guards: Vec<crate::engine::io::TempFile> = finals
         .iter()
@@ -526,4 +548,66 @@ fn write_npy_stream(
     crate::engine::io::write_atomic(&side, json.as_bytes()).map_err(|x| out_err(&side, x))?;
     finals.push(side);
     Ok(finals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat surface of 8 x 6 bins.
+    struct Flat;
+
+    impl RowSource for Flat {
+        fn width(&self) -> usize {
+            8
+        }
+        fn height(&self) -> usize {
+            6
+        }
+        fn bin_size(&self) -> f64 {
+            0.01
+        }
+        fn tile_size(&self) -> (usize, usize) {
+            (4, 3)
+        }
+        fn fill_row(&self, _y: usize, out: &mut [f32]) {
+            out.fill(0.01);
+        }
+    }
+
+    #[test]
+    fn a_failed_write_says_what_went_wrong_in_words() {
+        let dir = std::env::temp_dir().join(format!("cellsurf-stream-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(dir.join("m.json")).unwrap();
+        let spec = StreamSpec {
+            format: StreamFormat::Npy,
+            volume: None,
+            title: "t".into(),
+            params: Vec::new(),
+            elevation_long_name: None,
+        };
+        let err = write_stream(&dir.join("m.npy"), &Flat, &spec, |_| {})
+            .unwrap_err()
+            .to_string();
+        // the I/O error's message, not its debug form (`Custom { kind: ... }`, `Os { code ... }`)
+        assert!(err.contains("m.json"), "{err}");
+        assert!(err.contains("not a regular file"), "{err}");
+        assert!(
+            !err.contains("Custom {") && !err.contains("kind:") && !err.contains("Os {"),
+            "{err}"
+        );
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn npy_files_are_the_elevation_the_volume_and_the_sidecar() {
+        let f = npy_files(Path::new("a/m.npy"), Some(Field::Impedance));
+        let want = ["a/m.npy", "a/m_impedance.npy", "a/m.json"];
+        assert_eq!(f, want.map(PathBuf::from));
+        assert_eq!(
+            npy_files(Path::new("m.npy"), None),
+            ["m.npy", "m.json"].map(PathBuf::from)
+        );
+    }
 }
