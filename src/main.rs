@@ -55,7 +55,7 @@ enum Cmd {
     /// Acoustic ray tracing over a (generated) seafloor section: rays, shadows, grazing angles.
     Raytrace(cmd::raytrace::Args),
     /// Tiling: a large surface (and volume) from toroidal ripple tiles, optionally on fractal
-    /// dunes, streamed row by row to NetCDF-3 or .npy.
+    /// dunes, streamed row by row to NetCDF-3 or .npy, or chunk by chunk to a Zarr v3 store.
     Tile(cmd::tile::Args),
     /// Wind ripples: the particle model of the wind-ripple notebook (diffusion + saltation).
     WindRipples(cmd::windripples::Args),
