@@ -424,3 +424,36 @@ fn unused_options_and_impossible_scenarios_are_refused_by_name() {
         assert!(out.stdout.is_empty(), "{args:?} printed a scenario");
     }
 }
+
+/// A run that needs more memory than the machine has is refused by name before it starts
+/// (an allocation that fails would abort the program).
+#[test]
+fn a_run_larger_than_the_memory_is_refused_by_name() {
+    let avail_kb: Option<u64> = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
+        t.lines()
+            .find(|l| l.starts_with("MemAvailable:"))?
+            .split_whitespace()
+            .nth(1)?
+            .parse()
+            .ok()
+    });
+    // 2^30 particles need about 51.5 GB: checked where the machine has less.
+    let Some(kb) = avail_kb.filter(|&kb| (kb as f64) * 1024.0 < 50e9) else {
+        return;
+    };
+    let out = cellsurf(&[
+        "wind-ripples",
+        "--particles",
+        "1073741824",
+        "--size",
+        "16",
+        "--steps",
+        "1",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--particles 1073741824") && err.contains("GB"),
+        "{err} ({kb} kB)"
+    );
+}

@@ -175,6 +175,32 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
+/// Refuses a run that would need more memory than this machine has available (Linux's
+/// `MemAvailable`; nothing is checked where it cannot be read), naming `what` sets the size:
+/// an allocation that fails aborts the program, with no message worth the name.
+pub fn check_memory(what: &str, bytes: f64) -> Result<()> {
+    let Some(avail) = available_memory() else {
+        return Ok(());
+    };
+    if bytes > avail as f64 {
+        bail!(
+            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available on this \
+             machine: choose a smaller one",
+            bytes / 1e9,
+            avail as f64 / 1e9
+        );
+    }
+    Ok(())
+}
+
+/// Bytes of memory available to a new allocation (`MemAvailable` of `/proc/meminfo`).
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
 /// The largest seed: a scenario file (TOML) holds whole numbers up to 2^63 - 1.
 pub const MAX_SEED: u64 = i64::MAX as u64;
 

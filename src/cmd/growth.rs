@@ -263,9 +263,10 @@ fn gather_parts(dir: &Path, seeds: usize) -> Result<Vec<converge::RunRecord>> {
                 p.seeds
             );
         }
-        if *count.get_or_insert(p.part.count) != p.part.count {
+        let first = *count.get_or_insert(p.part.count);
+        if first != p.part.count {
             bail!(
-                "{}: a part of {} parts among parts of {count:?}",
+                "{}: a part of {} parts, among parts of {first}: gather the parts of one split",
                 f.display(),
                 p.part.count
             );
@@ -447,6 +448,12 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         out!("{}", cfg.to_toml())?;
         return Ok(());
     }
+    // 4 bytes per cell, a surface of up to a few bytes per cell, and a snapshot or frame of
+    // one byte per cell at a time.
+    conv::check_memory(
+        &format!("--size {}x{}", cfg.width, cfg.height),
+        cfg.width as f64 * cfg.height as f64 * 10.0,
+    )?;
     let mut outs = Outputs::new(
         &a.out,
         scene.name(),

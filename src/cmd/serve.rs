@@ -14,8 +14,9 @@ pub struct Args {
     /// Port to listen on (0: any free port; the address is printed on stdout).
     #[arg(long, default_value_t = 8080)]
     port: u16,
-    /// Address to bind: loopback unless you mean to share the page on a network.
-    #[arg(long, default_value = "127.0.0.1")]
+    /// Address to bind (an IP address, or localhost): loopback unless you mean to share the
+    /// page on a network.
+    #[arg(long, default_value = "127.0.0.1", value_parser = parse_host)]
     host: std::net::IpAddr,
     /// Open the page in the default browser (xdg-open / open / start).
     #[arg(long)]
@@ -62,4 +63,14 @@ fn open_browser(url: &str) {
     if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
         eprintln!("--open: cannot start {opener} ({e}); open {url} yourself");
     }
+}
+
+/// An address to bind: an IPv4 or IPv6 address, or `localhost` (127.0.0.1).
+fn parse_host(s: &str) -> Result<std::net::IpAddr, String> {
+    if s.eq_ignore_ascii_case("localhost") {
+        return Ok(std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST));
+    }
+    s.parse().map_err(|_| {
+        format!("'{s}' is not an address to bind: expected an IP address (127.0.0.1, ::1, 0.0.0.0) or localhost")
+    })
 }

@@ -155,6 +155,11 @@ pub fn run(a: Args) -> Result<()> {
         out!("{}", conv::scenario_text(&a, "wind-ripples")?)?;
         return Ok(());
     }
+    // 48 bytes per particle while they are re-sorted, and the histogram.
+    conv::check_memory(
+        &format!("--particles {}", params.particles),
+        params.particles as f64 * 48.0 + (params.bins as f64).powi(2) * 16.0,
+    )?;
     let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
     outs.add_legacy(Format::Npy, a.npy.as_ref())?;
     if a.threads > 4096 {
