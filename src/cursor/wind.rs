@@ -403,6 +403,7 @@ impl WindField {
                 format!("cellsurf {}", crate::engine::VERSION),
             )
             .map_err(err)?;
+            #[cfg(feature = "plot")]
             if let Some(p) = crate::plot::png_parameters() {
                 enc.add_itxt_chunk("parameters".to_string(), p)
                     .map_err(err)?;
