@@ -123,29 +123,5 @@ fn main() -> ExitCode {
         Cmd::Cursor(a) => cmd::cursor::run(a),
         Cmd::Serve(a) => cmd::serve::run(a),
     };
-    // Standard output closed early (`| head`): the run itself succeeded.
-    let result = match result {
-        Err(e) if is_broken_pipe(&e) => Ok(()),
-        r => r,
-    };
-    let result = result.and_then(|()| Ok(cellsurf::engine::io::publish_held()?));
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            let dropped = cellsurf::engine::io::discard_held();
-            eprintln!("error: {}", cmd::conv::render_error(&e));
-            if dropped > 0 {
-                eprintln!("(no output was written: the run failed)");
-            }
-            ExitCode::FAILURE
-        }
-    }
-}
-
-/// Whether `e` is a write to a closed pipe.
-fn is_broken_pipe(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| {
-        c.downcast_ref::<std::io::Error>()
-            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
-    })
+    cmd::conv::finish(result)
 }

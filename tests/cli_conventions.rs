@@ -210,19 +210,22 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     std::fs::create_dir_all(dir.join("s.json")).unwrap();
     let npy = dir.join("s.npy");
     let png = dir.join("s.png");
-    let out = cellsurf(&[
-        "wind-ripples",
-        "--size",
-        "8",
-        "--particles",
-        "100",
-        "--steps",
-        "3",
-        "--out",
-        npy.to_str().unwrap(),
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    let run = || {
+        cellsurf(&[
+            "wind-ripples",
+            "--size",
+            "8",
+            "--particles",
+            "100",
+            "--steps",
+            "3",
+            "--out",
+            npy.to_str().unwrap(),
+            "--out",
+            png.to_str().unwrap(),
+        ])
+    };
+    let out = run();
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("s.json"), "{err}");
@@ -235,20 +238,7 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     assert_eq!(left, vec!["s.json".to_string()], "{err}");
     // The same run with the way clear writes all three.
     std::fs::remove_dir(dir.join("s.json")).unwrap();
-    let out = cellsurf(&[
-        "wind-ripples",
-        "--size",
-        "8",
-        "--particles",
-        "100",
-        "--steps",
-        "3",
-        "--out",
-        npy.to_str().unwrap(),
-        "--out",
-        png.to_str().unwrap(),
-    ]);
-    assert!(out.status.success());
+    assert!(run().status.success());
     assert!(npy.is_file() && png.is_file() && dir.join("s.json").is_file());
 }
 

@@ -175,6 +175,36 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
+/// Ends the program with the run's `result`: a write to a closed standard output (`| head`)
+/// counts as success; the outputs held back are moved into place on success and removed on
+/// failure, whose message is printed (naming the flag) with exit status 1.
+pub fn finish(result: Result<()>) -> std::process::ExitCode {
+    let result = match result {
+        Err(e) if is_broken_pipe(&e) => Ok(()),
+        r => r,
+    };
+    let result = result.and_then(|()| Ok(cellsurf::engine::io::publish_held()?));
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            let dropped = cellsurf::engine::io::discard_held();
+            eprintln!("error: {}", render_error(&e));
+            if dropped > 0 {
+                eprintln!("(no output was written: the run failed)");
+            }
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Whether `e` is a write to a closed pipe.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 /// Refuses a run that would need more memory than this machine has available (Linux's
 /// `MemAvailable`; nothing is checked where it cannot be read), naming `what` sets the size:
 /// an allocation that fails aborts the program, with no message worth the name.

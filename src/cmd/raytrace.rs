@@ -246,18 +246,20 @@ fn floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
     Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
 }
 
+/// `--flag = value` for an option, marked `(default)` when the user did not type it.
+fn flag(id: &str, v: f64) -> String {
+    let f = conv::typed_flag(id).unwrap_or_default();
+    if conv::typed(id) {
+        format!("{f} = {v}")
+    } else {
+        format!("{f} = {v} (default)")
+    }
+}
+
 /// The fan's launch angles, degrees below the horizontal, from `--angle-min`/`--angle-max` or
 /// `--opening`/`--centre-angle`; errors name the options given and the valid range.
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
     let limits = conv::typed("angle_min") || conv::typed("angle_max");
-    let flag = |id: &str, v: f64| {
-        let f = conv::typed_flag(id).unwrap_or_default();
-        if conv::typed(id) {
-            format!("{f} = {v}")
-        } else {
-            format!("{f} = {v} (default)")
-        }
-    };
     match (a.opening, a.centre_angle) {
         (Some(_), Some(_)) if limits => {
             bail!("give either --opening with --centre-angle, or --angle-min/--angle-max")
@@ -366,14 +368,6 @@ fn check_seed(a: &Args) -> Result<()> {
 /// The source S in the water above the floor at its range; errors name `--source-range` and
 /// `--source-depth` (marked when they are the defaults) and the floor's depth there.
 fn check_source(a: &Args, fl: &Seafloor) -> Result<()> {
-    let flag = |id: &str, v: f64| {
-        let f = conv::typed_flag(id).unwrap_or_default();
-        if conv::typed(id) {
-            format!("{f} = {v}")
-        } else {
-            format!("{f} = {v} (default)")
-        }
-    };
     let (x0, x1) = fl.x_range();
     let x = a.source_range;
     if !(x.is_finite() && x >= x0 && x <= x1) {

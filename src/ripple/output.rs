@@ -508,6 +508,15 @@ pub fn npy_bytes(shape: &[usize], data: &[f32]) -> Vec<u8> {
     out
 }
 
+/// A scalar TOML value as JSON: strings quoted and escaped, non-finite floats as `null`.
+pub fn json_value(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => json_string(s),
+        toml::Value::Float(f) if !f.is_finite() => "null".into(),
+        other => other.to_string(),
+    }
+}
+
 /// A JSON string literal of `s` (quotes and control characters escaped).
 pub fn json_string(s: &str) -> String {
     let mut o = String::from("\"");
@@ -590,24 +599,12 @@ pub fn write_npy_with(
     }
     let mut params = Vec::new();
     for (k, v) in toml_pairs(r.params()) {
-        let val = match v {
-            toml::Value::String(s) => json_string(&s),
-            toml::Value::Float(f) if !f.is_finite() => "null".into(),
-            other => other.to_string(),
-        };
-        params.push(format!("    {}: {val}", json_string(&k)));
+        params.push(format!("    {}: {}", json_string(&k), json_value(&v)));
     }
     let times: Vec<String> = snapshots.iter().map(|s| s.0.to_string()).collect();
     let run: String = extra
         .iter()
-        .map(|(k, v)| {
-            let val = match v {
-                toml::Value::String(s) => json_string(s),
-                toml::Value::Float(f) if !f.is_finite() => "null".into(),
-                other => other.to_string(),
-            };
-            format!("  {}: {val},\n", json_string(k))
-        })
+        .map(|(k, v)| format!("  {}: {},\n", json_string(k), json_value(v)))
         .collect();
     let json = format!(
         "{{\n  \"cellsurf_version\": {},\n  \"model\": \"ripple\",\n{run}  \"steps_done\": {},\n  \"automata\": {},\n  \"elevation_times\": [{}],\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"x_axis_direction_deg\": {},\n  \"fill\": \"NaN above the bed\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",

@@ -33,7 +33,7 @@ use serde::Serialize;
 use super::TileError;
 use super::seam::{SeamMeter, SeamStats};
 use crate::ripple::VERSION;
-use crate::ripple::output::{Field, add_provenance, json_string, npy_header};
+use crate::ripple::output::{Field, add_provenance, json_string, json_value, npy_header};
 
 /// A surface computed row by row.
 pub trait RowSource: Sync {
@@ -527,14 +527,7 @@ fn write_npy_stream(
     let params: Vec<String> = spec
         .params
         .iter()
-        .map(|(k, v)| {
-            let val = match v {
-                toml::Value::String(s) => json_string(s),
-                toml::Value::Float(f) if !f.is_finite() => "null".into(),
-                other => other.to_string(),
-            };
-            format!("    {}: {val}", json_string(k))
-        })
+        .map(|(k, v)| format!("    {}: {}", json_string(k), json_value(v)))
         .collect();
     let json = format!(
         "{{\n  \"cellsurf_version\": {},\n  \"model\": \"tile\",\n  \"title\": {},\n  \"bin_size_m\": {},\n  \"layer_thickness_m\": {},\n  \"x_of_bin_i_m\": \"(i + 0.5) * bin_size_m\",\n  \"fields\": {{\n{}\n  }},\n  \"parameters\": {{\n{}\n  }}\n}}\n",
