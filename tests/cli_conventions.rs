@@ -447,3 +447,14 @@ fn a_run_larger_than_the_memory_is_refused_by_name() {
         "{err} ({kb} kB)"
     );
 }
+
+/// A sand quantity below one grain per cell runs, and says that nothing will move.
+#[test]
+fn a_dune_grid_without_sand_says_so() {
+    let out = cellsurf(&["dunes", "-d", "-q", "1e-7", "--size", "8", "--steps", "3"]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("-q = 0.0000001 puts no sand"), "{err}");
+    let out = cellsurf(&["dunes", "-d", "-q", "1", "--size", "8", "--steps", "3"]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("puts no sand"));
+}

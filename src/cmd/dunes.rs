@@ -207,6 +207,14 @@ pub fn run(a: Args) -> Result<()> {
     bar.set_message(format!("dunes {} {}x{}", cfg.mode, cfg.grid, cfg.grid));
     let start = Instant::now();
     let mut m = DuneModel::new(&cfg)?;
+    if m.grains().iter().all(|&g| g == 0) {
+        conv::note(format!(
+            "note: {} = {} puts no sand on the grid (heights are counted in grains of 1e-6 cell \
+             widths): nothing will move",
+            conv::typed_flag("quantity").unwrap_or_else(|| "-q".into()),
+            cfg.quantity
+        ));
+    }
     let mut rec = outs.get(Format::Gif).map(|_| MigrationRecorder::new(480));
     let every = (cfg.iterations / a.gif_frames as u64).max(1);
     if let Some(r) = rec.as_mut() {
