@@ -1,7 +1,7 @@
 //! `cellsurf wind-ripples`: the particle model of the wind-ripple notebook
 //! ([`cellsurf::windripples`]), with a progress bar, a picture, a `.npy` dump and a JSON summary.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -93,24 +93,6 @@ fn parse_number(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-/// Fails early (before a long run) when an output file's folder does not exist.
-fn check_output(flag: &str, p: &Path) -> Result<()> {
-    if let Some(dir) = p.parent()
-        && !dir.as_os_str().is_empty()
-        && !dir.is_dir()
-    {
-        bail!(
-            "{flag} {}: the folder {} does not exist",
-            p.display(),
-            dir.display()
-        );
-    }
-    if p.is_dir() {
-        bail!("{flag} {}: is a folder, expected a file name", p.display());
-    }
-    Ok(())
-}
-
 /// The summary printed by `--json` and written next to a `.npy` output.
 fn summary(a: &Args, r: &WindRun, threads: usize) -> Result<serde_json::Value> {
     let p = &r.params;
@@ -169,11 +151,6 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
-    for f in [Format::Png, Format::Npy] {
-        if let Some(p) = outs.get(f) {
-            check_output(&flag, p)?;
-        }
-    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads)
         .build()
