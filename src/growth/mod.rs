@@ -7,7 +7,8 @@
 //!   the direction weight [`Weight`](rule::Weight), Eq. (5)
 //!   `v = sqrt(x^2 + y^2) / (|x| + |y|)` for the crystal's fastest growth along the axes;
 //! - the growth state ([`state`]): [`Growth`], occupied cells and the surface sites
-//!   partitioned by `b`, updated in `O(z)` per occupation;
+//!   partitioned by `b` (or unpartitioned where every site weighs the same, `n = 0`),
+//!   updated in `O(z)` per occupation;
 //! - the sampler ([`sampler`]): [`SamplerKind`](sampler::SamplerKind), the paper's rejection
 //!   algorithm, an exact rejection-free equivalent on the same clock, or the deterministic
 //!   synchronous CA (Figs. 3 and 4).

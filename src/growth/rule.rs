@@ -94,6 +94,11 @@ impl Sticking {
     pub fn z(&self) -> usize {
         self.z
     }
+    /// True when every surface site has the same `p` (`n = 0`: `p = 1` for every `b >= 1`).
+    #[inline]
+    pub fn is_uniform(&self) -> bool {
+        self.n == 0.0
+    }
     /// `(b/z)^n` (Eq. 4). Zero for `b = 0`: a site with no occupied neighbour is not on the
     /// surface.
     #[inline]

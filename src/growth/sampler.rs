@@ -9,7 +9,9 @@
 //!   accepted site is chosen with probability proportional to its `p`. Sites are grouped by
 //!   `b`; class weights are computed relative to the highest occupied class, so that they
 //!   never underflow however large `n` is. Cost per accepted event: `O(z)`, plus `O(z log S)`
-//!   with a non-uniform weight; independent of `n`.
+//!   with a non-uniform weight; independent of `n`. At `n = 0` with a uniform weight every
+//!   site weighs the same: the sampler flattens the surface (no classes to keep up) and
+//!   picks one uniform slot of all.
 //! - [`SamplerKind::Ca`]: synchronous deterministic growth (Figs. 3 and 4): every surface
 //!   site with at least `b_min` occupied neighbours becomes occupied at once.
 //!
@@ -333,14 +335,26 @@ impl Growth {
         if self.tree.is_none() && !self.weight.is_uniform() {
             self.build_weight_tree();
         }
-        let z = Z;
+        // Every site weighs the same at n = 0 (uniform v): the classes are of no use, and a
+        // flat surface spares their upkeep; a pick is then one uniform slot of all.
+        let uniform = self.tree.is_none() && self.rule.is_uniform();
+        if uniform != self.surface.is_flat() {
+            if uniform {
+                self.flatten_surface();
+            } else {
+                self.partition_surface();
+            }
+        }
+        if self.surface.is_flat() {
+            return self.step_exact_flat(rng, limit);
+        }
         // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
         // class (highest b with m_b > 0).
         let mut mass = [0.0f64; 9];
         let mut top = 0;
         match &self.tree {
             None => {
-                for b in 1..=z {
+                for b in 1..=Z {
                     let len = self.surface.class_len(b);
                     // (u32 converts in one instruction; a lattice has < 2^28 cells)
                     mass[b] = f64::from(len as u32);
@@ -350,7 +364,7 @@ impl Growth {
                 }
             }
             Some(t) => {
-                for b in 1..=z {
+                for b in 1..=Z {
                     let r = self.surface.class_range(b);
                     mass[b] = t.range_sum(r.start, r.end);
                     if mass[b] > 0.0 {
@@ -398,31 +412,12 @@ impl Growth {
                     }
                     w
                 };
-                let at = self.time + wait + 1.0;
-                // An unbounded run (no clock limit) that allows it goes on past the largest
-                // f64 on a log clock; otherwise the run stops there (ClockOverflow below).
-                if limit.is_infinite()
-                    && self.log_clock_allowed
-                    && (at.is_infinite() || self.log_clock.is_some())
-                {
-                    let prev = self.log_clock.unwrap_or(self.time.ln());
-                    let lw = ln_wait.unwrap_or_else(|| (wait + 1.0).ln());
-                    self.log_clock = Some(ln_add(prev, lw));
-                }
-                at
+                self.acceptance_time(wait, ln_wait, limit)
             }
         };
-        if at.is_infinite() && self.log_clock.is_none() {
-            self.time = at;
-            return Outcome::ClockOverflow;
+        if let Some(stop) = self.move_clock_to(at, limit) {
+            return stop;
         }
-        if at > limit {
-            // The next acceptance comes after the limit: pause here.
-            self.pending = Some(at);
-            self.time = limit;
-            return Outcome::Limit;
-        }
-        self.time = at;
         // The site: its class with probability w_b / total, then a site of the class, uniform
         // (v = 1) or proportional to v (sum tree).
         let mut u = rng.random::<f64>() * total;
@@ -440,7 +435,10 @@ impl Growth {
         let slot = match &self.tree {
             // u is uniform in [0, w_b) = [0, count_b ratio_b): u / ratio_b is uniform over
             // the class's slots, so one draw picks both class and site.
-            None => r.start + ((u / ratio[class]) as i64 as usize).min(r.end - r.start - 1),
+            None => {
+                let ratio = self.rule.ratio(top, class);
+                r.start + ((u / ratio) as i64 as usize).min(r.end - r.start - 1)
+            }
             Some(t) => {
                 let u: f64 = rng.random();
                 // The class has positive mass, so a slot with v > 0 exists.
@@ -451,6 +449,66 @@ impl Growth {
         self.occupy_unchecked(cell);
         self.accepted += 1;
         Outcome::Accepted(cell)
+    }
+
+    /// [`Growth::step_exact`] on a flat surface (`n = 0`, uniform `v`: every pick is
+    /// accepted): the clock moves by one timestep and the site is one uniform slot of all,
+    /// with the random stream drawn as on a partitioned surface (one draw, no wait).
+    #[inline(never)]
+    fn step_exact_flat(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
+        let s = self.surface.len();
+        let at = match self.pending.take() {
+            Some(at) => at,
+            None => self.acceptance_time(0.0, None, limit),
+        };
+        if let Some(stop) = self.move_clock_to(at, limit) {
+            return stop;
+        }
+        let total = f64::from(s as u32);
+        let u = rng.random::<f64>() * total;
+        // (as the class loop leaves it when rounding puts u at the total)
+        let u = if u < total { u } else { u - total };
+        let slot = (u as i64 as usize).min(s - 1);
+        let cell = self.surface.site(slot) as usize;
+        self.occupy_unchecked(cell);
+        self.accepted += 1;
+        Outcome::Accepted(cell)
+    }
+
+    /// The time of the next acceptance after `wait` rejected picks (`ln_wait`: its log where
+    /// `wait` overflowed), keeping the log clock of an unbounded run that allows one: it goes
+    /// on past the largest `f64`; otherwise the run stops there
+    /// ([`Outcome::ClockOverflow`], from [`Growth::move_clock_to`]).
+    #[inline(always)]
+    fn acceptance_time(&mut self, wait: f64, ln_wait: Option<f64>, limit: f64) -> f64 {
+        let at = self.time + wait + 1.0;
+        if limit.is_infinite()
+            && self.log_clock_allowed
+            && (at.is_infinite() || self.log_clock.is_some())
+        {
+            let prev = self.log_clock.unwrap_or(self.time.ln());
+            let lw = ln_wait.unwrap_or_else(|| (wait + 1.0).ln());
+            self.log_clock = Some(ln_add(prev, lw));
+        }
+        at
+    }
+
+    /// Moves the clock to the next acceptance, at `at`; or says why the run stops first: the
+    /// clock overflowed, or the acceptance comes after `limit` (the run pauses at the limit
+    /// and keeps `at` for its next call).
+    #[inline(always)]
+    fn move_clock_to(&mut self, at: f64, limit: f64) -> Option<Outcome> {
+        if at.is_infinite() && self.log_clock.is_none() {
+            self.time = at;
+            return Some(Outcome::ClockOverflow);
+        }
+        if at > limit {
+            self.pending = Some(at);
+            self.time = limit;
+            return Some(Outcome::Limit);
+        }
+        self.time = at;
+        None
     }
 
     /// Runs the exact sampler until the clock reaches `limit` (or the surface empties).
@@ -476,6 +534,7 @@ impl Growth {
     /// neighbours becomes occupied at once. Returns the number of cells added.
     pub fn step_ca(&mut self, b_min: usize) -> usize {
         let b_min = b_min.max(1);
+        self.partition_surface();
         if b_min > self.lattice.z() {
             self.time += 1.0;
             return 0;
@@ -574,6 +633,38 @@ mod tests {
     }
 
     #[test]
+    fn exact_at_n0_runs_flat_and_the_ca_sorts_the_classes_back() {
+        let mut g = flame(0.0, 24, Weight::Isotropic, false);
+        let mut rng = stream(5);
+        for _ in 0..200 {
+            assert!(matches!(
+                g.step_exact(&mut rng, f64::INFINITY),
+                Outcome::Accepted(_)
+            ));
+        }
+        assert!(g.surface().is_flat());
+        g.check_invariants().unwrap();
+        // The CA needs the classes (its sites are the leading slots).
+        let grown = g.step_ca(3);
+        assert!(!g.surface().is_flat());
+        g.check_invariants().unwrap();
+        let want = g.surface().class_range(3).end;
+        // A second CA step from the sorted surface adds what the classes say.
+        assert_eq!(g.step_ca(3), want);
+        assert!(grown > 0);
+        // The rejection sampler runs on either; the exact one flattens again.
+        g.run_rejection_until(&mut rng, f64::INFINITY, g.accepted() + 50);
+        g.check_invariants().unwrap();
+        g.run_exact_until(&mut rng, f64::INFINITY, g.accepted() + 50);
+        assert!(g.surface().is_flat());
+        g.check_invariants().unwrap();
+        // n > 0 keeps the classes.
+        let mut g = flame(2.0, 24, Weight::Isotropic, false);
+        g.run_exact_until(&mut rng, f64::INFINITY, 100);
+        assert!(!g.surface().is_flat());
+    }
+
+    #[test]
     fn value_stability_of_the_stream_and_samplers() {
         // Pins the random stream and both samplers' first events: a change here changes
         // every published run, and must be deliberate.
@@ -618,6 +709,21 @@ mod tests {
             ev,
             vec![(9.0, 86), (35.0, 88), (39.0, 87), (52.0, 89), (74.0, 71)],
             "rejection events"
+        );
+        // n = 0 on the flat surface: every pick accepted, one timestep each.
+        let mut g = flame(0.0, 16, Weight::Isotropic, false);
+        let mut rng = stream(42);
+        let ev: Vec<usize> = (0..8)
+            .map(|_| match g.step_exact(&mut rng, f64::INFINITY) {
+                Outcome::Accepted(c) => c,
+                o => panic!("{o:?}"),
+            })
+            .collect();
+        assert_eq!(g.time(), 8.0);
+        assert_eq!(
+            ev,
+            vec![107, 89, 74, 165, 73, 186, 86, 181],
+            "exact events, n = 0"
         );
     }
 }

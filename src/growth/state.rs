@@ -198,6 +198,62 @@ impl CellWords for WeightSink<'_> {
     }
 }
 
+/// The new words of the sites a [`Surface::partition`] moved.
+struct Moves<'a>(&'a mut Vec<(u32, u32)>);
+
+impl SlotListener for Moves<'_> {
+    fn slot_of(&self, _cell: usize) -> usize {
+        unreachable!("a partition reports moves only")
+    }
+    fn swapped(&mut self, _a: usize, _ca: u32, _b: usize, _cb: u32, _class: usize) {
+        unreachable!("a partition reports moves only")
+    }
+    fn moved(&mut self, _from: usize, to: usize, cell: u32, class: usize) {
+        self.0.push((cell, site_word(class, to)));
+    }
+    fn pushed(&mut self, _cell: u32, _slot: usize) {
+        unreachable!("a partition reports moves only")
+    }
+    fn popped(&mut self, _slot: usize) {}
+}
+
+/// Occupies `cell` on a flat surface (no classes, no per-slot weights): the surface site
+/// leaves (the last site takes its slot) and the neighbours' counts grow, with no branch that
+/// depends on a neighbour's state (whether it is occupied, empty or on the surface, it takes
+/// the same path: an empty one joins the surface, whose spare slots take the writes of the
+/// others). The same slots and words as [`occupy_cell`] on a flat surface.
+#[inline(always)]
+fn occupy_flat(lattice: &Lattice, surface: &mut Surface, cells: &mut [u32], cell: usize) -> bool {
+    let w = cells[cell];
+    let s = b_of(w);
+    if s == OCC {
+        return false;
+    }
+    let (sites, mut len) = surface.flat_parts();
+    if s >= 1 {
+        // The last site fills the hole (itself when it is the one leaving).
+        let slot = (w & SLOT_MASK) as usize;
+        len -= 1;
+        let moved = sites[len] as usize;
+        sites[slot] = moved as u32;
+        cells[moved] = (cells[moved] & !SLOT_MASK) | slot as u32;
+    }
+    cells[cell] = OCC << B_SHIFT;
+    let list = lattice.neighbour_list(cell);
+    for &n in list.as_slice() {
+        let wn = cells[n as usize];
+        let sn = b_of(wn);
+        let joins = sn == 0;
+        // b + 1, or the word unchanged for an occupied neighbour.
+        let raised = wn + (((sn != OCC) as u32) << B_SHIFT);
+        sites[len] = n;
+        cells[n as usize] = std::hint::select_unpredictable(joins, site_word(1, len), raised);
+        len += joins as usize;
+    }
+    surface.set_flat_len(len);
+    true
+}
+
 /// Occupies `cell`, updating the neighbours' counts and the surface; `sink` holds the cell
 /// words and hears of every slot change.
 #[inline(always)]
@@ -382,6 +438,9 @@ impl Growth {
     #[inline]
     pub(crate) fn occupy_unchecked(&mut self, cell: usize) {
         let added = match self.tree.as_mut() {
+            None if self.surface.is_flat() => {
+                occupy_flat(&self.lattice, &mut self.surface, &mut self.cells, cell)
+            }
             None => occupy_cell(
                 &self.lattice,
                 &mut self.surface,
@@ -405,6 +464,25 @@ impl Growth {
             ),
         };
         self.occupied += added as usize;
+    }
+
+    /// Stops keeping the surface's classes (see [`Surface::flatten`]), for a sampler to which
+    /// every site weighs the same. Not with per-slot weights, whose tree follows the slots.
+    pub(crate) fn flatten_surface(&mut self) {
+        debug_assert!(self.tree.is_none());
+        self.surface.flatten();
+    }
+
+    /// Sorts a flat surface back into its classes (see [`Surface::partition`]), for a sampler
+    /// that needs them.
+    pub(crate) fn partition_surface(&mut self) {
+        let cells = &self.cells;
+        let class_of = |c: u32| b_of(cells[c as usize]) as usize;
+        let mut words: Vec<(u32, u32)> = Vec::new();
+        self.surface.partition(class_of, &mut Moves(&mut words));
+        for (cell, w) in words {
+            self.cells[cell as usize] = w;
+        }
     }
 
     /// Builds the per-slot weight tree from the current surface (the exact sampler calls this
@@ -477,7 +555,7 @@ impl Growth {
                 if self.surface.site(slot) as usize != c {
                     return Err(format!("cell {c}: slot {slot} holds another site"));
                 }
-                if self.surface.class_of_slot(slot) != b {
+                if !self.surface.is_flat() && self.surface.class_of_slot(slot) != b {
                     return Err(format!("cell {c}: in the wrong class"));
                 }
                 if let Some(t) = &self.tree {
