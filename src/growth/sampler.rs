@@ -173,12 +173,9 @@ pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
     }
     let k = e / -(-p).ln_1p();
     // floor() of a non-negative value below 2^63 by truncation (floor is a library call on
-    // the baseline x86-64 target); larger values keep their f64 (integral already).
-    if k < 9.2e18 {
-        (k as i64) as f64
-    } else {
-        k.floor()
-    }
+    // the baseline x86-64 target); larger values (and +inf) are whole already (an f64 at or
+    // above 2^52 has no fraction).
+    if k < 9.2e18 { (k as i64) as f64 } else { k }
 }
 
 impl Growth {
