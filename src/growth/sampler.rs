@@ -462,9 +462,8 @@ impl Growth {
             return stop;
         }
         let total = f64::from(s as u32);
+        // (a draw below 1 times s stays below s: the slot is in range)
         let u = rng.random::<f64>() * total;
-        // (as the class loop leaves it when rounding puts u at the total)
-        let u = if u < total { u } else { u - total };
         let slot = (u as i64 as usize).min(s - 1);
         let cell = self.surface.site(slot) as usize;
         self.occupy_unchecked(cell);

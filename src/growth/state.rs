@@ -221,7 +221,7 @@ impl SlotListener for Moves<'_> {
 /// leaves (the last site takes its slot) and the neighbours' counts grow, with no branch that
 /// depends on a neighbour's state (whether it is occupied, empty or on the surface, it takes
 /// the same path: an empty one joins the surface, whose spare slots take the writes of the
-/// others). The same slots and words as [`occupy_cell`] on a flat surface.
+/// others). The cell words are those [`occupy_cell`] writes; the slots are the flat surface's.
 #[inline(always)]
 fn occupy_flat(lattice: &Lattice, surface: &mut Surface, cells: &mut [u32], cell: usize) -> bool {
     let w = cells[cell];
