@@ -239,17 +239,16 @@ fn occupy_flat(lattice: &Lattice, surface: &mut Surface, cells: &mut [u32], cell
         cells[moved] = (cells[moved] & !SLOT_MASK) | slot as u32;
     }
     cells[cell] = OCC << B_SHIFT;
-    let list = lattice.neighbour_list(cell);
-    for &n in list.as_slice() {
-        let wn = cells[n as usize];
+    lattice.for_each_neighbour(cell, |n| {
+        let wn = cells[n];
         let sn = b_of(wn);
         let joins = sn == 0;
         // b + 1, or the word unchanged for an occupied neighbour.
         let raised = wn + (((sn != OCC) as u32) << B_SHIFT);
-        sites[len] = n;
-        cells[n as usize] = std::hint::select_unpredictable(joins, site_word(1, len), raised);
+        sites[len] = n as u32;
+        cells[n] = std::hint::select_unpredictable(joins, site_word(1, len), raised);
         len += joins as usize;
-    }
+    });
     surface.set_flat_len(len);
     true
 }
@@ -272,15 +271,11 @@ fn occupy_cell<L: CellWords>(
         surface.remove((w & SLOT_MASK) as usize, s as usize, sink);
     }
     sink.set_word(cell, OCC << B_SHIFT);
-    // one loop over the neighbour list (the same order as `for_each_neighbour`), the body
-    // inlined
-    let list = lattice.neighbour_list(cell);
-    for &n in list.as_slice() {
-        let n = n as usize;
+    lattice.for_each_neighbour(cell, |n| {
         let wn = sink.word(n);
         let sn = b_of(wn);
         if sn == OCC {
-            continue;
+            return;
         }
         if sn == 0 {
             surface.insert_class1(n as u32, sink);
@@ -290,7 +285,7 @@ fn occupy_cell<L: CellWords>(
         // The slot may have moved in the surface update: keep it, raise b by one.
         let wn = sink.word(n);
         sink.set_word(n, wn + (1 << B_SHIFT));
-    }
+    });
     true
 }
 
