@@ -239,16 +239,25 @@ fn occupy_flat(lattice: &Lattice, surface: &mut Surface, cells: &mut [u32], cell
         cells[moved] = (cells[moved] & !SLOT_MASK) | slot as u32;
     }
     cells[cell] = OCC << B_SHIFT;
-    lattice.for_each_neighbour(cell, |n| {
+    // b + 1 for an empty or surface neighbour, its word unchanged for an occupied one; an
+    // empty one joins at the end (its slot written either way, into a spare slot if not).
+    let mut raise = |n: usize| {
         let wn = cells[n];
         let sn = b_of(wn);
         let joins = sn == 0;
-        // b + 1, or the word unchanged for an occupied neighbour.
         let raised = wn + (((sn != OCC) as u32) << B_SHIFT);
         sites[len] = n as u32;
         cells[n] = std::hint::select_unpredictable(joins, site_word(1, len), raised);
         len += joins as usize;
-    });
+    };
+    match lattice.interior_offsets(cell) {
+        Some(offsets) => {
+            for &d in offsets {
+                raise((cell as i64 + d) as usize);
+            }
+        }
+        None => lattice.for_each_neighbour(cell, raise),
+    }
     surface.set_flat_len(len);
     true
 }
@@ -271,22 +280,36 @@ fn occupy_cell<L: CellWords>(
         surface.remove((w & SLOT_MASK) as usize, s as usize, sink);
     }
     sink.set_word(cell, OCC << B_SHIFT);
-    lattice.for_each_neighbour(cell, |n| {
-        let wn = sink.word(n);
-        let sn = b_of(wn);
-        if sn == OCC {
-            return;
+    // The neighbours in the order of `for_each_neighbour`; an interior cell's by their
+    // offsets, in a loop with the body inlined.
+    match lattice.interior_offsets(cell) {
+        Some(offsets) => {
+            for &d in offsets {
+                raise_neighbour(surface, sink, (cell as i64 + d) as usize);
+            }
         }
-        if sn == 0 {
-            surface.insert_class1(n as u32, sink);
-        } else {
-            surface.promote((wn & SLOT_MASK) as usize, sn as usize, sink);
-        }
-        // The slot may have moved in the surface update: keep it, raise b by one.
-        let wn = sink.word(n);
-        sink.set_word(n, wn + (1 << B_SHIFT));
-    });
+        None => lattice.for_each_neighbour(cell, |n| raise_neighbour(surface, sink, n)),
+    }
     true
+}
+
+/// One neighbour of a cell just occupied (on a partitioned surface): an empty one joins the
+/// surface in class 1, a surface one moves up a class, an occupied one is left as it is.
+#[inline(always)]
+fn raise_neighbour<L: CellWords>(surface: &mut Surface, sink: &mut L, n: usize) {
+    let wn = sink.word(n);
+    let sn = b_of(wn);
+    if sn == OCC {
+        return;
+    }
+    if sn == 0 {
+        surface.insert_class1(n as u32, sink);
+    } else {
+        surface.promote((wn & SLOT_MASK) as usize, sn as usize, sink);
+    }
+    // The slot may have moved in the surface update: keep it, raise b by one.
+    let wn = sink.word(n);
+    sink.set_word(n, wn + (1 << B_SHIFT));
 }
 
 impl Growth {
