@@ -45,8 +45,10 @@ pub struct Surface {
 pub trait SlotListener {
     /// The slot of surface site `cell`.
     fn slot_of(&self, cell: usize) -> usize;
-    /// Slots `a` and `b` of class `class` exchanged their sites: `cell_a` is now at `a`,
-    /// `cell_b` at `b` (both still of class `class`).
+    /// Slots `a` and `b` of class `class` exchanged their sites, for a promotion
+    /// ([`Surface::promote`]): `cell_a`, the site promoted, is now at `a` (and leaves the
+    /// class for the next: the caller records its new class and slot), `cell_b` at `b`
+    /// (still of class `class`).
     fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize);
     /// `cell`, of class `class`, moved from slot `from` to slot `to` (`from` is left as a
     /// hole, soon filled or popped).
@@ -192,20 +194,22 @@ impl Surface {
         self.sites.resize(want, 0);
     }
 
-    /// Adds `cell` as a class-1 site.
+    /// Adds `cell` as a class-1 site; returns its slot.
     #[inline]
-    pub fn insert_class1(&mut self, cell: u32, l: &mut impl SlotListener) {
+    pub fn insert_class1(&mut self, cell: u32, l: &mut impl SlotListener) -> usize {
         let slot = self.end[0];
         self.sites[slot] = cell;
         self.end[1] = slot + 1;
         self.end[0] = slot + 1;
         self.restore_spare();
         l.pushed(cell, slot);
+        slot
     }
 
-    /// Moves the site at `slot`, of class `b`, into class `b + 1` (partitioned surface).
+    /// Moves the site at `slot`, of class `b`, into class `b + 1` (partitioned surface);
+    /// returns its new slot.
     #[inline]
-    pub fn promote(&mut self, slot: usize, b: usize, l: &mut impl SlotListener) {
+    pub fn promote(&mut self, slot: usize, b: usize, l: &mut impl SlotListener) -> usize {
         debug_assert!(!self.flat && b < self.z && self.class_range(b).contains(&slot));
         let first = self.end[b + 1];
         if first != slot {
@@ -213,6 +217,7 @@ impl Surface {
             l.swapped(first, self.sites[first], slot, self.sites[slot], b);
         }
         self.end[b + 1] += 1;
+        first
     }
 
     /// Removes the site at `slot`, of class `b`, from the surface (partitioned surface).

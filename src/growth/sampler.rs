@@ -306,6 +306,7 @@ impl Growth {
     /// The exact rejection-free sampler: draws the number of rejected picks and the accepted
     /// site directly. Returns at the acceptance, or moves the clock to `limit` if the next
     /// acceptance would come later.
+    #[inline]
     pub fn step_exact(&mut self, rng: &mut Stream, limit: f64) -> Outcome {
         // The neighbourhood size as a constant, so that the loops over the classes unroll.
         match self.lattice.z() {
@@ -351,13 +352,15 @@ impl Growth {
         let mut top = 0;
         match &self.tree {
             None => {
+                // The classes lie highest first, so the top class is the number of classes
+                // whose end is past slot 0 (no branch per class).
+                top = (1..=Z)
+                    .filter(|&b| self.surface.class_range(b).end > 0)
+                    .count();
                 for b in 1..=Z {
                     let len = self.surface.class_len(b);
                     // (u32 converts in one instruction; a lattice has < 2^28 cells)
                     mass[b] = f64::from(len as u32);
-                    if len > 0 {
-                        top = b;
-                    }
                 }
             }
             Some(t) => {

@@ -120,8 +120,8 @@ impl SlotListener for SlotSink<'_> {
         (self.cells[cell] & SLOT_MASK) as usize
     }
     #[inline(always)]
-    fn swapped(&mut self, a: usize, cell_a: u32, b: usize, cell_b: u32, class: usize) {
-        self.cells[cell_a as usize] = site_word(class, a);
+    fn swapped(&mut self, _a: usize, _cell_a: u32, b: usize, cell_b: u32, class: usize) {
+        // (the promoted cell_a's word is written by the occupation, with its new class)
         self.cells[cell_b as usize] = site_word(class, b);
     }
     #[inline(always)]
@@ -302,14 +302,13 @@ fn raise_neighbour<L: CellWords>(surface: &mut Surface, sink: &mut L, n: usize) 
     if sn == OCC {
         return;
     }
-    if sn == 0 {
-        surface.insert_class1(n as u32, sink);
+    // Its slot after the surface update, and b raised by one.
+    let slot = if sn == 0 {
+        surface.insert_class1(n as u32, sink)
     } else {
-        surface.promote((wn & SLOT_MASK) as usize, sn as usize, sink);
-    }
-    // The slot may have moved in the surface update: keep it, raise b by one.
-    let wn = sink.word(n);
-    sink.set_word(n, wn + (1 << B_SHIFT));
+        surface.promote((wn & SLOT_MASK) as usize, sn as usize, sink)
+    };
+    sink.set_word(n, site_word(sn as usize + 1, slot));
 }
 
 impl Growth {
