@@ -520,8 +520,23 @@ impl Growth {
     /// [`Growth::allow_log_clock`] the clock may pass the largest `f64`: it goes on as a log
     /// clock ([`Growth::log10_time`]).
     pub fn run_exact_until(&mut self, rng: &mut Stream, limit: f64, accepted: u64) -> Outcome {
+        // One loop per neighbourhood size, with the step inlined in it.
+        match self.lattice.z() {
+            4 => self.run_exact_until_z::<4>(rng, limit, accepted),
+            6 => self.run_exact_until_z::<6>(rng, limit, accepted),
+            _ => self.run_exact_until_z::<8>(rng, limit, accepted),
+        }
+    }
+
+    /// [`Growth::run_exact_until`] for a neighbourhood of `Z` cells.
+    fn run_exact_until_z<const Z: usize>(
+        &mut self,
+        rng: &mut Stream,
+        limit: f64,
+        accepted: u64,
+    ) -> Outcome {
         while self.accepted < accepted {
-            match self.step_exact(rng, limit) {
+            match self.step_exact_z::<Z>(rng, limit) {
                 Outcome::Accepted(_) => continue,
                 o => return o,
             }

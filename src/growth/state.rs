@@ -311,6 +311,18 @@ fn raise_neighbour<L: CellWords>(surface: &mut Surface, sink: &mut L, n: usize) 
     sink.set_word(n, site_word(sn as usize + 1, slot));
 }
 
+/// `len` zero words, with every page of them mapped now: a zeroed allocation is mapped
+/// lazily, and each first write to a page during the run would stall the sampler on a page
+/// fault. One store per 4 KiB page, of a value the compiler cannot see is zero (so that the
+/// store is made).
+fn zeroed_words(len: usize) -> Vec<u32> {
+    let mut v = vec![0u32; len];
+    for w in v.iter_mut().step_by(1024) {
+        *w = std::hint::black_box(0);
+    }
+    v
+}
+
 impl Growth {
     /// An empty lattice with the rule `p = v (b/z)^n`. With `per_site_weights` (used by the
     /// exact sampler when `weight` is not uniform) the surface keeps a sum tree of `v` from the
@@ -348,7 +360,7 @@ impl Growth {
             lattice,
             rule,
             weight,
-            cells: vec![0; n],
+            cells: zeroed_words(n),
             surface: Surface::new(z),
             tree,
             time: 0.0,
