@@ -384,7 +384,9 @@ impl Growth {
     pub fn weight(&self) -> &Weight {
         &self.weight
     }
-    /// The surface sites.
+    /// The surface sites. After the exact sampler ran at `n = 0` the surface is flat
+    /// ([`Surface::is_flat`]): its sites are all in the segment of class 1, and a site's `b`
+    /// is [`Growth::occupied_neighbours`].
     pub fn surface(&self) -> &Surface {
         &self.surface
     }
