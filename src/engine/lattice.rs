@@ -385,32 +385,46 @@ impl Lattice {
         self.hood.z()
     }
 
-    /// The existing neighbours of `cell` (all `z` of them on a torus; fewer beyond a wall),
-    /// in the order of [`Neighbourhood::offsets`].
+    /// `(x, y)` of a cell index, by strength-reduced division (indices fit in u32:
+    /// [`MAX_CELLS`]).
     #[inline(always)]
-    pub fn neighbour_list(&self, cell: usize) -> NeighbourList {
-        let z = self.hood.z();
-        let (w, h) = (self.width, self.height);
-        // Indices fit in u32 (MAX_CELLS): divided by multiplication.
+    fn split(&self, cell: usize) -> (usize, usize) {
         let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
-        let (x, y) = (x as usize, y as usize);
-        let mut ids = [NONE; 8];
-        if x >= 1 && x + 1 < w && y >= 1 && y + 1 < h {
-            let d = &self.delta[y & 1];
-            for k in 0..z {
-                ids[k] = (cell as i64 + d[k]) as u32;
-            }
-            return NeighbourList { ids, len: z };
-        }
-        let mut len = 0;
+        (x as usize, y as usize)
+    }
+
+    /// The neighbour offsets of an interior cell at `(x, y)` (no boundary rule applies);
+    /// `None` on the lattice's edge.
+    #[inline(always)]
+    fn interior(&self, x: usize, y: usize) -> Option<&[i64]> {
+        let (w, h) = (self.width, self.height);
+        (x >= 1 && x + 1 < w && y >= 1 && y + 1 < h).then(|| &self.delta[y & 1][..self.hood.z()])
+    }
+
+    /// Calls `f` with each existing neighbour of the cell at `(x, y)` through the boundary
+    /// rule (wrap or wall), in the order of [`Neighbourhood::offsets`].
+    #[inline(always)]
+    fn edge_neighbours(&self, x: usize, y: usize, mut f: impl FnMut(usize)) {
+        let (w, h) = (self.width, self.height);
         for &(dx, dy) in self.hood.offsets(y) {
             let nx = wrap(x as i64 + dx as i64, w, self.boundary.x);
             let ny = wrap(y as i64 + dy as i64, h, self.boundary.y);
             if let (Some(nx), Some(ny)) = (nx, ny) {
-                ids[len] = (ny * w + nx) as u32;
-                len += 1;
+                f(ny * w + nx);
             }
         }
+    }
+
+    /// The existing neighbours of `cell` (all `z` of them on a torus; fewer beyond a wall),
+    /// in the order of [`Neighbourhood::offsets`].
+    #[inline(always)]
+    pub fn neighbour_list(&self, cell: usize) -> NeighbourList {
+        let mut ids = [NONE; 8];
+        let mut len = 0;
+        self.for_each_neighbour(cell, |n| {
+            ids[len] = n as u32;
+            len += 1;
+        });
         NeighbourList { ids, len }
     }
 
@@ -420,10 +434,8 @@ impl Lattice {
     /// then need no closure.
     #[inline(always)]
     pub fn interior_offsets(&self, cell: usize) -> Option<&[i64]> {
-        let (w, h) = (self.width, self.height);
-        let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
-        let (x, y) = (x as usize, y as usize);
-        (x >= 1 && x + 1 < w && y >= 1 && y + 1 < h).then(|| &self.delta[y & 1][..self.hood.z()])
+        let (x, y) = self.split(cell);
+        self.interior(x, y)
     }
 
     /// Calls `f` with each existing neighbour of `cell`, in the order of
@@ -431,23 +443,14 @@ impl Lattice {
     /// for hot loops.
     #[inline(always)]
     pub fn for_each_neighbour(&self, cell: usize, mut f: impl FnMut(usize)) {
-        let (w, h) = (self.width, self.height);
-        let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
-        let (x, y) = (x as usize, y as usize);
-        if x >= 1 && x + 1 < w && y >= 1 && y + 1 < h {
-            let z = self.hood.z();
-            let d = &self.delta[y & 1];
-            for &dk in &d[..z] {
-                f((cell as i64 + dk) as usize);
+        let (x, y) = self.split(cell);
+        match self.interior(x, y) {
+            Some(offsets) => {
+                for &d in offsets {
+                    f((cell as i64 + d) as usize);
+                }
             }
-            return;
-        }
-        for &(dx, dy) in self.hood.offsets(y) {
-            let nx = wrap(x as i64 + dx as i64, w, self.boundary.x);
-            let ny = wrap(y as i64 + dy as i64, h, self.boundary.y);
-            if let (Some(nx), Some(ny)) = (nx, ny) {
-                f(ny * w + nx);
-            }
+            None => self.edge_neighbours(x, y, f),
         }
     }
 
