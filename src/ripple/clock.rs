@@ -54,7 +54,11 @@ pub fn meyer_peter_mueller(theta: f64, d: f64) -> f64 {
 pub fn model_threshold_speed(p: &RippleParams, d: f64) -> f64 {
     let (dx, gd, mu) = (p.bin_size, p.layer_thickness, p.friction);
     let cost = mu * (dx * dx + 4.0 * gd * gd).sqrt() + gd;
-    let stage = cost / (mu * dx * p.hop_length);
+    let stage = if p.hop_grains > 0.0 {
+        cost / (mu * p.hop_metres(d))
+    } else {
+        cost / (mu * dx * p.hop_length)
+    };
     let theta = (1.0 + stage) * theta_cr(d);
     (theta * (RHO_S - RHO_W) * G * d / (RHO_W * p.drag_coefficient)).sqrt()
 }
@@ -197,6 +201,14 @@ fn patch(p: &RippleParams) -> RippleParams {
     } else {
         (32, 32)
     };
+    // A travel in metres (`hop_grains`) must not wrap around the patch: at least 0.25 m along
+    // the flow (six mean travels of 4 cm; an exponential travel's tail beyond is e^-6).
+    let (nx, ny) = if p.hop_grains > 0.0 {
+        let n = ((0.25 / p.bin_size).ceil() as usize).clamp(nx, 4096);
+        (n, if p.mode == Mode::TwoD { 1 } else { n.max(ny) })
+    } else {
+        (nx, ny)
+    };
     RippleParams {
         nx,
         ny,
@@ -268,6 +280,41 @@ pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_travel_in_grain_diameters_does_not_depend_on_the_bin() {
+        // `hop_grains`: the flat-bed travel is a length in metres (37.5 d50 per unit excess
+        // Shields stage), so bins of 2.5, 5 and 10 mm give the same mean travel (within the
+        // calibration's sampling noise and the part-bin rounding); `hop_length` (bins) doubles
+        // with the bin.
+        let travel = |b: f64, grains: f64, exponential: bool| {
+            let p = RippleParams {
+                mode: Mode::TwoD,
+                nx: 64,
+                ny: 1,
+                bin_size: b,
+                layer_thickness: b / 10.0,
+                layers: 20,
+                hop_grains: grains,
+                hop_exponential: exponential,
+                ..RippleParams::default()
+            };
+            flat_bed_travel(&p).unwrap().0
+        };
+        for exponential in [false, true] {
+            let mid = travel(0.005, 37.5, exponential);
+            assert!(mid > 0.015 && mid < 0.025, "{mid}");
+            for b in [0.0025, 0.01] {
+                let t = travel(b, 37.5, exponential);
+                assert!(
+                    (t / mid - 1.0).abs() < 0.08,
+                    "exponential {exponential}: bin {b} travel {t} against {mid}"
+                );
+            }
+        }
+        let (a, b) = (travel(0.0025, 0.0, false), travel(0.01, 0.0, false));
+        assert!(b / a > 3.0, "hop_length in bins: {a} {b}");
+    }
 
     #[test]
     fn meyer_peter_mueller_law() {

@@ -205,7 +205,12 @@ impl Ripple {
         if stage <= 0.0 {
             return 0.0;
         }
-        self.p.friction * self.p.bin_size * self.p.hop_length * stage
+        if self.p.hop_grains > 0.0 {
+            let d = self.classes.d[a.class() as usize];
+            self.p.friction * self.p.hop_metres(d) * stage
+        } else {
+            self.p.friction * self.p.bin_size * self.p.hop_length * stage
+        }
     }
 
     /// Monte Carlo trigger of column `c`: true when its top grain was exposed (an activation).
@@ -214,9 +219,12 @@ impl Ripple {
             return false;
         }
         let k = self.pick_octant(flow);
-        let budget = self.budget(c, k, flow);
+        let mut budget = self.budget(c, k, flow);
         if budget <= 0.0 {
             return false;
+        }
+        if self.p.hop_exponential {
+            budget *= self.rng.sample::<f64, _>(rand_distr::Exp1);
         }
         if !self.roll(c, k, budget, flow) {
             self.creep(c, k);
@@ -295,6 +303,17 @@ impl Ripple {
             }
             let Some((de, n, target)) = best else { break };
             if spent + de > budget {
+                // With a travel in metres (`hop_grains`), the last part-bin is crossed with the
+                // fraction of its cost that is left, so the mean travel does not depend on
+                // the bin size.
+                let left = budget - spent;
+                if !(self.p.hop_grains > 0.0 && left > 0.0 && self.rng.random::<f64>() * de < left)
+                {
+                    break;
+                }
+                path.push(p as u32);
+                p = n;
+                hops += 1;
                 break;
             }
             spent += de;
