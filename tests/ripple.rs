@@ -91,6 +91,29 @@ fn conservation_under_waves_and_oblique_current() {
 }
 
 #[test]
+fn conservation_and_no_slope_above_alpha_with_the_wave_vortex() {
+    // pure waves with the lee vortex (shelter capped at the water's travel, grains carried
+    // back to the crest), in 3-D and in 2-D
+    let waves = |p: RippleParams| RippleParams {
+        current_speed: 0.0,
+        wave_period: 24.0,
+        wave_amplitude: 0.5,
+        wave_vortex: 0.05,
+        steps: 300,
+        ..p
+    };
+    let r = checked_run(&waves(small()));
+    assert!(r.stats().rolls > 0);
+    checked_run(&waves(RippleParams {
+        mode: Mode::TwoD,
+        nx: 64,
+        ny: 1,
+        sorting: 1.0,
+        ..small()
+    }));
+}
+
+#[test]
 fn periodic_volume_tiles_without_seams() {
     // The torus has no edge: the differences across the seam (x = nx-1 -> 0, y = ny-1 -> 0)
     // are like those inside, and the bed is relaxed across it.

@@ -125,6 +125,15 @@ pub struct Args {
     /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3].
     #[arg(long, allow_hyphen_values = true)]
     wave_friction_factor: Option<f64>,
+    /// The lee vortex of wave ripples (an experiment, docs/ripple.md "Waves"): the shelter
+    /// behind a crest reaches no further than the water has travelled since the flow reversed,
+    /// A (1 - cos psi) with A = U_w T / (2 pi), and grains in it are carried back towards the
+    /// crest (needs --wave-period) [default: off].
+    #[arg(long)]
+    wave_vortex: bool,
+    /// The vortex's return speed as a fraction of the free stream's, 0 to 1 [default: 0.5].
+    #[arg(long)]
+    vortex_strength: Option<f64>,
     /// Direction the waves propagate towards, degrees counter-clockwise from east, -360 to 360;
     /// 3-D only [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
@@ -277,6 +286,15 @@ fn params(a: &Args) -> Result<RippleParams> {
             .collect::<Vec<_>>()
             .join(" and ")
         ),
+    }
+    if let Some(v) = a.vortex_strength {
+        p.vortex_strength = v;
+    }
+    if a.wave_vortex {
+        let Some(t) = a.wave_period else {
+            bail!("--wave-vortex needs --wave-period (the orbital excursion U_w T / (2 pi))");
+        };
+        p.wave_vortex = p.wave_amplitude * t / (2.0 * std::f64::consts::PI);
     }
     // the waves' own bed friction, from their orbital excursion (seconds given here)
     if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {

@@ -163,6 +163,18 @@ pub struct RippleParams {
     /// `current_angle`; -360..=360. 3-D only. Default absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wave_angle: Option<f64>,
+    /// The lee vortex of wave ripples (an experiment, `docs/ripple.md`, "Waves"): the orbital
+    /// excursion amplitude `A = U_w T / (2 pi)`, m, of the waves (the command line's
+    /// `--wave-vortex` sets it from the waves given); 0: off. Where the waves dominate, the
+    /// water's shelter behind a crest reaches no further than the water has travelled since
+    /// the flow last reversed, `A (1 - cos psi)`, and a grain in that shelter is carried back
+    /// towards the crest by the vortex. Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub wave_vortex: f64,
+    /// The vortex's near-bed return speed as a fraction of the free stream's, in [0, 1] (with
+    /// `wave_vortex`). Default 0.5.
+    #[serde(skip_serializing_if = "is_half")]
+    pub vortex_strength: f64,
     /// Orientation of the lattice (3-D only): `grid`, its x axis east and the flow at
     /// `current_angle` across it, or `flow`, its x axis along the flow (the current's
     /// direction, or the waves' when there is no current: [`RippleParams::frame_angle`]), so
@@ -248,6 +260,8 @@ impl Default for RippleParams {
             wave_amplitude: 0.0,
             wave_friction_factor: 0.0,
             wave_angle: None,
+            wave_vortex: 0.0,
+            vortex_strength: 0.5,
             frame: Frame::Flow,
             avalanche_angle: 32.0,
             stoss_angle: 7.0,
@@ -316,6 +330,10 @@ pub fn rounded(v: f64) -> String {
 /// Whether a number is zero (left out of scenario and output files).
 fn is_zero(v: &f64) -> bool {
     *v == 0.0
+}
+
+fn is_half(v: &f64) -> bool {
+    *v == 0.5
 }
 
 fn check_f(
@@ -622,6 +640,15 @@ impl RippleParams {
         check_f(
             "wave_friction_factor",
             self.wave_friction_factor,
+            0.0,
+            1.0,
+            false,
+            false,
+        )?;
+        check_f("wave_vortex", self.wave_vortex, 0.0, 1e4, false, false)?;
+        check_f(
+            "vortex_strength",
+            self.vortex_strength,
             0.0,
             1.0,
             false,

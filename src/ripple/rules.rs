@@ -219,6 +219,24 @@ impl Ripple {
             return false;
         }
         let k = self.pick_octant(flow);
+        if flow.vortex_reach.is_some() && self.bed_speed(c, k, flow) <= 0.0 {
+            // in the lee vortex: carried back towards the crest at the vortex's speed
+            let Some(a) = self.vol.top(c) else {
+                return false;
+            };
+            let stage = self.classes.excess_stage(
+                a.class(),
+                self.p.vortex_strength * flow.speed,
+                self.p.drag_coefficient,
+            );
+            if stage <= 0.0 {
+                return false;
+            }
+            let d = self.classes.d[a.class() as usize];
+            let budget = self.p.friction * self.p.hop_metres(d) * stage;
+            self.roll_dir(c, k, budget, flow, true);
+            return true;
+        }
         let mut budget = self.budget(c, k, flow);
         if budget <= 0.0 {
             return false;
@@ -264,6 +282,21 @@ impl Ripple {
     /// Roll/saltation of the top grain of `c` with budget `budget` (Eqs. 1-5, 7-8); false when
     /// it could not afford a single hop (it then stays).
     pub(crate) fn roll(&mut self, c: usize, k: usize, budget: f64, flow: &Flow) -> bool {
+        self.roll_dir(c, k, budget, flow, false)
+    }
+
+    /// [`Ripple::roll`] downstream, or with `vortex` upstream (octant `k + 4`, the lee
+    /// vortex's return flow), stopping where the grain leaves the shelter (the crest) instead
+    /// of where it enters it, without the stoss cap.
+    pub(crate) fn roll_dir(
+        &mut self,
+        c: usize,
+        k: usize,
+        budget: f64,
+        flow: &Flow,
+        vortex: bool,
+    ) -> bool {
+        let dir = if vortex { (k + 4) % 8 } else { k };
         let gd = self.p.layer_thickness;
         let start_level = self.vol.height(c);
         let Some(a) = self.vol.pop(c) else {
@@ -289,7 +322,7 @@ impl Ripple {
         loop {
             let mut best: Option<(f64, usize, usize)> = None;
             for &off in options {
-                let o = (k + off) % 8;
+                let o = (dir + off) % 8;
                 let n = self.nb(p, o);
                 if self.vol.is_full(n) {
                     continue;
@@ -321,14 +354,14 @@ impl Ripple {
             p = n;
             level = target;
             hops += 1;
-            if hops >= max_hops || self.bed_speed(p, k, flow) <= 0.0 {
+            if hops >= max_hops || (self.bed_speed(p, k, flow) <= 0.0) != vortex {
                 break;
             }
         }
         // The stoss cap (beta, "the maximum slope of the stoss side"): a grain does not come
         // to rest where it would make the rise from the column upstream steeper than beta; it
         // rests at the last column of its path where it would not (the foot of the rise).
-        while self.stoss_capped && hops > 0 && self.stoss_too_steep(p, k, c) {
+        while self.stoss_capped && !vortex && hops > 0 && self.stoss_too_steep(p, k, c) {
             p = path.pop().expect("one column per hop") as usize;
             hops -= 1;
         }
@@ -540,6 +573,40 @@ mod tests {
         assert_eq!(h[3], 9);
         assert_eq!(h[4], 11);
         assert_eq!(r.vol.automata(), 160);
+    }
+
+    #[test]
+    fn the_lee_vortex_carries_a_sheltered_grain_back_towards_the_crest() {
+        // a crest at x = 10, two slices above a flat bed: the columns behind it are sheltered
+        let mut h = vec![20usize; 40];
+        h[10] = 24;
+        h[9] = 22;
+        h[11] = 22;
+        let mut r = two_d(&h, |p| {
+            p.current_speed = 0.0;
+            p.wave_amplitude = 0.6;
+            p.wave_period = 40.0;
+            p.wave_vortex = 0.1;
+            p.vortex_strength = 1.0;
+        });
+        let f = r.flow_at(9); // psi near pi / 2, flow along +x
+        assert!(f.vortex_reach.is_some() && f.angle.cos() > 0.0);
+        assert_eq!(r.bed_speed(12, 0, &f), 0.0, "behind the crest");
+        let before: Vec<usize> = (0..40).map(|c| r.vol.height(c)).collect();
+        assert!(r.trigger(12, &f));
+        let after: Vec<usize> = (0..40).map(|c| r.vol.height(c)).collect();
+        assert_eq!(after[12], before[12] - 1);
+        let gained = (0..40).find(|&c| after[c] > before[c]).unwrap();
+        assert!(gained < 12, "carried upstream, to {gained}");
+        assert_eq!(r.vol.automata(), before.iter().sum::<usize>() as u64);
+        // without the vortex the sheltered grain stays
+        let mut r0 = two_d(&h, |p| {
+            p.current_speed = 0.0;
+            p.wave_amplitude = 0.6;
+            p.wave_period = 40.0;
+        });
+        let f0 = r0.flow_at(9);
+        assert!(!r0.trigger(12, &f0));
     }
 
     #[test]

@@ -50,6 +50,10 @@ pub struct Flow {
     pub octant: f64,
     /// Offsets (dx, dy) of the points 1..=MAX_REACH bins upstream.
     pub upstream: Vec<(i32, i32)>,
+    /// The lee vortex of wave ripples (`wave_vortex`, where the waves dominate): the distance
+    /// the water has travelled since the flow last reversed, `A (1 - cos psi)` in bins (at
+    /// least 1), beyond which no crest shelters the bed; `None` without the vortex rule.
+    pub vortex_reach: Option<usize>,
 }
 
 impl Flow {
@@ -95,11 +99,18 @@ impl Flow {
                 (dx, dy)
             })
             .collect();
+        let vortex_reach =
+            (p.wave_vortex > 0.0 && p.wave_period > 0.0 && p.waves_dominate()).then(|| {
+                let psi = (2.0 * PI * (t as f64 + 0.5) / p.wave_period).rem_euclid(PI);
+                let x = p.wave_vortex * (1.0 - psi.cos()) / p.bin_size;
+                (x.round() as usize).max(1)
+            });
         Flow {
             speed: v.abs(),
             angle,
             octant,
             upstream,
+            vortex_reach,
         }
     }
 }
@@ -188,7 +199,9 @@ impl WaterVolume {
         let e_bound = ceil_div(hmax_bound.saturating_sub(j0 * t), t);
         let per = self.shadow_length + self.recovery_length;
         // Looking further than once around the torus would only meet the same columns again.
-        let reach = (per * e_bound + 1).min(nx + ny);
+        let reach = (per * e_bound + 1)
+            .min(nx + ny)
+            .min(flow.vortex_reach.unwrap_or(usize::MAX));
         let (nxi, nyi) = (nx as i32, ny as i32);
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
         let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
@@ -406,6 +419,47 @@ mod tests {
             let (a, b) = (Flow::at(&q, t, false), Flow::at(&r, t, false));
             assert!((a.speed - b.speed).abs() < 1e-12 && (a.angle - b.angle).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn vortex_reach_is_the_waters_travel_since_the_reversal() {
+        // A = 0.05 m = 10 bins of 5 mm; a period of 40 steps: psi = 2 pi (t + 1/2) / 40 mod pi
+        let p = RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 40.0,
+            wave_vortex: 0.05,
+            ..RippleParams::default()
+        };
+        for t in 0..80u64 {
+            let psi = (2.0 * PI * (t as f64 + 0.5) / 40.0).rem_euclid(PI);
+            let want = ((10.0 * (1.0 - psi.cos())).round() as usize).max(1);
+            assert_eq!(Flow::at(&p, t, true).vortex_reach, Some(want), "{t}");
+        }
+        // off without the vortex, and where the current dominates
+        let off = RippleParams {
+            wave_vortex: 0.0,
+            ..p.clone()
+        };
+        assert_eq!(Flow::at(&off, 3, true).vortex_reach, None);
+        let current = RippleParams {
+            current_speed: 0.6,
+            ..p.clone()
+        };
+        assert_eq!(Flow::at(&current, 3, true).vortex_reach, None);
+        // a crest 100 slices high shelters 100 bins, but only as far as the water has gone
+        let w = WaterVolume {
+            slice_layers: 1,
+            shadow_length: 1,
+            recovery_length: 1,
+        };
+        let n = 400;
+        let mut h = vec![10u16; n];
+        h[20] = 110;
+        let mut f = Flow::at(&p, 0, true);
+        f.vortex_reach = Some(15);
+        assert_eq!(w.bed_speed(&h, n, 1, 20 + 15, 0, 110, &f), 0.0);
+        assert_eq!(w.bed_speed(&h, n, 1, 20 + 16, 0, 110, &f), 1.0);
     }
 
     #[test]
