@@ -292,10 +292,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn sect_2_3_shadows_longer_than_the_tabulated_look_up_are_whole() {
-        // a crest 100 slices above the bed: 100 bins of shadow, then 100 of recovery, far more
-        // than the MAX_REACH offsets a Flow tabulates
+    /// Slices of one automaton, one bin of shadow and one of recovery per slice, over a 400-bin
+    /// section at level 10 with a crest 100 slices high at x = 20.
+    fn tall_crest() -> (WaterVolume, Vec<u16>, usize) {
         let w = WaterVolume {
             slice_layers: 1,
             shadow_length: 1,
@@ -304,6 +303,14 @@ mod tests {
         let n = 400;
         let mut h = vec![10u16; n];
         h[20] = 110;
+        (w, h, n)
+    }
+
+    #[test]
+    fn sect_2_3_shadows_longer_than_the_tabulated_look_up_are_whole() {
+        // a crest 100 slices above the bed: 100 bins of shadow, then 100 of recovery, far more
+        // than the MAX_REACH offsets a Flow tabulates
+        let (w, h, n) = tall_crest();
         let f = flow_x();
         let s = |x: usize| w.bed_speed(&h, n, 1, x, 0, 110, &f);
         const { assert!(100 > MAX_REACH) };
@@ -448,14 +455,7 @@ mod tests {
         };
         assert_eq!(Flow::at(&current, 3, true).vortex_reach, None);
         // a crest 100 slices high shelters 100 bins, but only as far as the water has gone
-        let w = WaterVolume {
-            slice_layers: 1,
-            shadow_length: 1,
-            recovery_length: 1,
-        };
-        let n = 400;
-        let mut h = vec![10u16; n];
-        h[20] = 110;
+        let (w, h, n) = tall_crest();
         let mut f = Flow::at(&p, 0, true);
         f.vortex_reach = Some(15);
         assert_eq!(w.bed_speed(&h, n, 1, 20 + 15, 0, 110, &f), 0.0);
