@@ -466,6 +466,73 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
     }
 }
 
+/// The lee vortex's flags: each rejects what it cannot act on, naming itself; a current that
+/// dominates the waves turns the vortex off with a warning; and a run with it is recorded.
+#[test]
+fn wave_vortex_flags_and_bad_input() {
+    let run = |extra: &[&str]| cellsurf(&[SMALL, extra].concat());
+    let waves = [
+        "--current-speed",
+        "0",
+        "--wave-velocity",
+        "0.4",
+        "--wave-period",
+        "2s",
+    ];
+    for (extra, flag, why) in [
+        (&["--wave-vortex"][..], "--wave-vortex", "--wave-period"),
+        (
+            &["--vortex-strength", "0.3"][..],
+            "--vortex-strength",
+            "--wave-vortex",
+        ),
+        (
+            &[&waves[..], &["--wave-vortex", "--vortex-strength", "1.5"]].concat()[..],
+            "--vortex-strength",
+            "[0, 1]",
+        ),
+        (
+            &[&waves[..], &["--wave-vortex", "--vortex-strength", "nan"]].concat()[..],
+            "--vortex-strength",
+            "[0, 1]",
+        ),
+    ] {
+        let o = run(extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_ne!(o.status.code(), Some(0), "{extra:?}: {err}");
+        assert!(!err.contains("panicked"), "{extra:?}: {err}");
+        assert!(err.contains(flag) && err.contains(why), "{extra:?}: {err}");
+    }
+    let o = run(&[
+        "--current-speed",
+        "0.5",
+        "--wave-velocity",
+        "0.1",
+        "--wave-period",
+        "2s",
+        "--wave-vortex",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("--wave-vortex") && err.contains("the vortex is off"),
+        "{err}"
+    );
+    let o = run(&[&waves[..], &["--wave-vortex", "--print-scenario"]].concat());
+    let toml = String::from_utf8_lossy(&o.stdout);
+    // A = U_w T / (2 pi) = 0.4 x 2 / (2 pi) m
+    let a: f64 = toml
+        .lines()
+        .find_map(|l| l.strip_prefix("wave_vortex = "))
+        .expect("wave_vortex recorded")
+        .parse()
+        .unwrap();
+    assert!(
+        (a - 0.8 / (2.0 * std::f64::consts::PI)).abs() < 1e-12,
+        "{a}"
+    );
+}
+
 /// A domain shorter than 4 wavelengths of the predicted ripple along the flow gets a warning
 /// naming both lengths; a long enough one gets none.
 #[test]

@@ -336,6 +336,19 @@ fn params(a: &Args) -> Result<RippleParams> {
             );
         }
     }
+    // the lee vortex's options with no vortex to act on, or a vortex the current overrides
+    if let Some(v) = a.vortex_strength.filter(|_| p.wave_vortex == 0.0) {
+        bail!(
+            "--vortex-strength = {v} acts on the lee vortex, which is off: give --wave-vortex (with waves and --wave-period)"
+        );
+    }
+    if p.wave_vortex > 0.0 && !p.waves_dominate() {
+        conv::note(format_args!(
+            "warning: --wave-vortex acts only where the waves' bed stress exceeds the current's; here the current dominates (--current-speed = {} m/s against waves rubbing the bed like {:.3} m/s), so the vortex is off for this run",
+            p.current_speed,
+            p.wave_stress_amplitude()
+        ));
+    }
     if p.lattice_slope_deg() > p.avalanche_angle {
         bail!(
             "--layer-thickness = {} m is out of range for --bin-size = {} m and --avalanche-angle = {} deg: one automaton over one bin is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold; expected --layer-thickness at most --bin-size x tan(--avalanche-angle) = {} m (or a larger --bin-size or --avalanche-angle)",

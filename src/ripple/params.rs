@@ -712,6 +712,33 @@ mod tests {
     }
 
     #[test]
+    fn opt_in_travel_and_vortex_keys_are_checked() {
+        let bad = |f: fn(&mut RippleParams)| {
+            let mut p = RippleParams::default();
+            f(&mut p);
+            p.validate().unwrap_err().to_string()
+        };
+        for (e, key) in [
+            (bad(|p| p.hop_grains = -1.0), "hop_grains = -1"),
+            (bad(|p| p.hop_grains = f64::NAN), "hop_grains = NaN"),
+            (bad(|p| p.wave_vortex = -0.1), "wave_vortex = -0.1"),
+            (bad(|p| p.vortex_strength = 1.5), "vortex_strength = 1.5"),
+        ] {
+            assert!(e.starts_with(key) && e.contains("out of range"), "{e}");
+        }
+        let mut ok = RippleParams {
+            hop_grains: 37.5,
+            hop_exponential: true,
+            ..RippleParams::default()
+        };
+        assert!(ok.validate().is_ok());
+        // the travel per unit stage: N d, or hop_length bins
+        assert!((ok.hop_metres(2e-4) - 37.5 * 2e-4).abs() < 1e-15);
+        ok.hop_grains = 0.0;
+        assert_eq!(ok.hop_metres(2e-4), 1.5 * ok.bin_size);
+    }
+
+    #[test]
     fn wave_stress_amplitude_gives_the_waves_own_stress() {
         // rho_w C_D (U'_w)^2 = rho_w (f_w / 2) U_w^2
         let p = RippleParams {

@@ -187,12 +187,17 @@ impl Ripple {
     }
 
     /// E_x of the top grain of `c` in units of m g' (m): 0 when it is not exposed.
+    #[cfg(test)]
     pub(crate) fn budget(&self, c: usize, k: usize, flow: &Flow) -> f64 {
         if self.vol.height(c) == 0 {
             return 0.0;
         }
+        self.budget_at(c, k, flow, self.bed_speed(c, k, flow))
+    }
+
+    /// [`Ripple::budget`] of a non-empty column `c` whose bed speed fraction `s` is known.
+    fn budget_at(&self, c: usize, k: usize, flow: &Flow, s: f64) -> f64 {
         // Heights first (cache-resident); the automaton itself only for exposed grains.
-        let s = self.bed_speed(c, k, flow);
         if s <= 0.0 || self.stoss_stable(c, k) {
             return 0.0;
         }
@@ -209,6 +214,7 @@ impl Ripple {
             let d = self.classes.d[a.class() as usize];
             self.p.friction * self.p.hop_metres(d) * stage
         } else {
+            // (the product in its former order, so that default runs keep their bytes)
             self.p.friction * self.p.bin_size * self.p.hop_length * stage
         }
     }
@@ -219,7 +225,10 @@ impl Ripple {
             return false;
         }
         let k = self.pick_octant(flow);
-        if flow.vortex_reach.is_some() && self.bed_speed(c, k, flow) <= 0.0 {
+        // The water's speed at the bed, looked up once (the look-up upstream is the costly
+        // part of an activation).
+        let s = self.bed_speed(c, k, flow);
+        if flow.vortex_reach.is_some() && s <= 0.0 {
             // in the lee vortex: carried back towards the crest at the vortex's speed
             let Some(a) = self.vol.top(c) else {
                 return false;
@@ -237,7 +246,7 @@ impl Ripple {
             self.roll_dir(c, k, budget, flow, true);
             return true;
         }
-        let mut budget = self.budget(c, k, flow);
+        let mut budget = self.budget_at(c, k, flow, s);
         if budget <= 0.0 {
             return false;
         }
