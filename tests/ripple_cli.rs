@@ -12,6 +12,14 @@ fn tmp(name: &str) -> PathBuf {
     common::tmp_in("ripple-cli", name)
 }
 
+/// The run with `extra` failed without a panic, its message naming `flag` and `why`.
+fn assert_refused(extra: &[&str], o: &std::process::Output, flag: &str, why: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_ne!(o.status.code(), Some(0), "{extra:?}: {err}");
+    assert!(!err.contains("panicked"), "{extra:?}: {err}");
+    assert!(err.contains(flag) && err.contains(why), "{extra:?}: {err}");
+}
+
 const SMALL: &[&str] = &[
     "ripple", "--size", "24x12", "--layers", "10", "--steps", "40", "--seed", "3",
 ];
@@ -455,14 +463,7 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
             "[0, 1]",
         ),
     ] {
-        let o = run(extra);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_ne!(o.status.code(), Some(0), "{extra:?}: {err}");
-        assert!(!err.contains("panicked"), "{extra:?}: {err}");
-        assert!(
-            err.contains(flag) && err.contains(range),
-            "{extra:?}: {err}"
-        );
+        assert_refused(extra, &run(extra), flag, range);
     }
 }
 
@@ -497,11 +498,7 @@ fn wave_vortex_flags_and_bad_input() {
             "[0, 1]",
         ),
     ] {
-        let o = run(extra);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_ne!(o.status.code(), Some(0), "{extra:?}: {err}");
-        assert!(!err.contains("panicked"), "{extra:?}: {err}");
-        assert!(err.contains(flag) && err.contains(why), "{extra:?}: {err}");
+        assert_refused(extra, &run(extra), flag, why);
     }
     let o = run(&[
         "--current-speed",
