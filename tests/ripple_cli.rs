@@ -567,6 +567,38 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
     }
 }
 
+/// A bin longer than half the lee face of the predicted ripple (`H / (2 tan alpha)`) gets a
+/// warning naming the bin, that length and the predicted height; the default bin gets none.
+#[test]
+fn bin_longer_than_half_the_predicted_lee_face_is_warned() {
+    // stderr of a run that succeeds, on 64 x 8 bins of `bin` m (automata of a tenth of it)
+    let stderr_of = |bin: &str, extra: &[&str]| {
+        let lt = format!("{}", bin.parse::<f64>().unwrap() / 10.0);
+        let mut args = vec![
+            "ripple", "--layers", "10", "--steps", "20", "--size", "64x8",
+        ];
+        args.extend_from_slice(&["--bin-size", bin, "--layer-thickness", &lt]);
+        args.extend_from_slice(extra);
+        let o = cellsurf(&args);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    // 0.2 mm sand: Soulsby & Whitehouse predict H = 0.0186 m; at alpha = 32 deg half its lee
+    // face is 0.0149 m. A 2 cm bin (1.28 m along the flow: no domain warning) is warned,
+    let err = stderr_of("0.02", &[]);
+    for part in ["--bin-size = 0.02 m", "0.0149 m", "0.0186 m", "Soulsby"] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    // a steeper avalanche angle shortens the face: 1 cm bins are warned at alpha = 60 deg
+    assert!(stderr_of("0.01", &["--avalanche-angle", "60"]).contains("0.0054 m"));
+    // and 5 mm or 1 cm bins at alpha = 32 deg are not
+    for bin in ["0.005", "0.01"] {
+        let err = stderr_of(bin, &[]);
+        assert!(!err.contains("half the lee face"), "{bin}: {err}");
+    }
+}
+
 /// The flow frame (the default) runs the lattice with its x axis along the current: the bed is
 /// the same whatever the current's angle (the lattice no longer pulls the crests towards its
 /// axes and diagonals), the crest normal is reported from east (the lattice's normal plus the

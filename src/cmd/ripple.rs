@@ -16,7 +16,7 @@ use cellsurf::ripple::output::{run_recording, write_netcdf_with, write_npy_with}
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::run_until_mature;
-use cellsurf::ripple::predictors::{Prediction, length_along};
+use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -681,6 +681,13 @@ pub fn run(a: Args) -> Result<()> {
             predicted.wavelength,
             4.0 * predicted.wavelength,
             predicted.source
+        ));
+    }
+    let resolving = largest_resolving_bin(predicted.height, p.avalanche_angle);
+    if reg.regime == Regime::Ripples && p.bin_size > resolving {
+        conv::note(format_args!(
+            "warning: --bin-size = {} m is longer than half the lee face of the predicted ripple (H / (2 tan alpha) = {resolving:.4} m for H = {:.4} m, {}, and alpha = {} deg): the slip face and the shadow behind it span fewer than two bins, so the field will depend on the bin; give a smaller --bin-size (and --layer-thickness)",
+            p.bin_size, predicted.height, predicted.source, p.avalanche_angle
         ));
     }
     let surface = match (a.wave_height, a.wave_period, a.water_depth) {
