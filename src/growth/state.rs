@@ -311,6 +311,28 @@ fn raise_neighbour<L: CellWords>(surface: &mut Surface, sink: &mut L, n: usize) 
     sink.set_word(n, site_word(sn as usize + 1, slot));
 }
 
+/// Asks the cache for the cell words of the rows above and below `cell` (`width` words
+/// apart), where its neighbours' words lie, before they are read: on a wide front they are
+/// not in cache, and the request overlaps their fetch with that of `cell`'s own word (2048 x
+/// 2048 hexagonal flame at n = 2: about 10 % more events per second). A hint only: nothing is
+/// read or written, and a cell on the first or last row asks for nothing.
+#[inline(always)]
+fn prefetch_rows_around(cells: &[u32], cell: usize, width: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if cell >= width && cell + width < cells.len() {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let base = cells.as_ptr();
+        // SAFETY: both addresses lie inside `cells` (checked above), and a prefetch neither
+        // reads nor writes memory as far as the program can tell.
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(base.add(cell - width).cast::<i8>());
+            _mm_prefetch::<_MM_HINT_T0>(base.add(cell + width).cast::<i8>());
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (cells, cell, width);
+}
+
 /// `len` zero words, with every page of them mapped now: a zeroed allocation is mapped
 /// lazily, and each first write to a page during the run would stall the sampler on a page
 /// fault. One store per 4 KiB page, of a value the compiler cannot see is zero (so that the
@@ -468,6 +490,7 @@ impl Growth {
 
     #[inline]
     pub(crate) fn occupy_unchecked(&mut self, cell: usize) {
+        prefetch_rows_around(&self.cells, cell, self.lattice.width());
         let added = match self.tree.as_mut() {
             None if self.surface.is_flat() => {
                 occupy_flat(&self.lattice, &mut self.surface, &mut self.cells, cell)
