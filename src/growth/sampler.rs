@@ -196,10 +196,10 @@ fn rejected_picks_by_log(p: f64, e: f64) -> f64 {
 /// terms satisfies `S <= r <= S + p^7 / (7 (1 - p))`, i.e. `r / S - 1 <= (4/21) p^6`. The
 /// quotient `e / r` then lies in `[q (1 - (4/21) p^6), q]` for `q = e / S`; widened by
 /// `1e-12` on each side (far beyond the rounding of `S`, of the quotient, and of the
-/// logarithm in [`rejected_picks_by_log`]), the interval gives the count when no whole number
-/// lies inside it, and `None` when one does (about `q (4/21) p^6` of the draws: 2e-5 at
-/// `p = 0.2`). The wait is the same whichever way it is computed, so a run's bytes do not
-/// depend on it.
+/// logarithm [`rejected_picks_linear`] falls back on), the interval gives the count when no
+/// whole number lies inside it, and `None` when one does (about `q (4/21) p^6` of the draws:
+/// 6e-5 at `p = 0.2` and `e = 1`). The wait is the same whichever way it is computed, so a
+/// run's bytes do not depend on it.
 #[inline]
 pub fn geometric_count_by_series(p: f64, e: f64) -> Option<f64> {
     if !(p > 0.0 && p <= 0.25) {
