@@ -241,6 +241,67 @@ fn duration_and_until_equilibrium() {
     assert_eq!(v["steps"].as_u64().unwrap(), *cps.last().unwrap());
 }
 
+/// Troughs down to the substrate: a warning naming the bare share and `--layers`, JSON's
+/// `bare_fraction` (and per checkpoint), and no equilibrium declared on a bare bed although
+/// the stalled field's wavelength and height stop changing.
+#[test]
+fn a_bed_down_to_the_substrate_is_warned_and_never_at_equilibrium() {
+    let scenario = tmp("thin_sand.toml");
+    let o = cellsurf(&[
+        "ripple",
+        "--print-scenario",
+        "--size",
+        "24x12",
+        "--layers",
+        "6",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout).replace("roughness = 3", "roughness = 1");
+    assert!(text.contains("roughness = 1"), "{text}");
+    std::fs::write(&scenario, text).unwrap();
+    let s = scenario.to_str().unwrap();
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        s,
+        "--seed",
+        "3",
+        "--until",
+        "equilibrium",
+        "--steps",
+        "128000",
+        "--json",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("reached the substrate")
+            && err.contains("--layers = 6")
+            && err.contains("no equilibrium on a bare bed"),
+        "{err}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["equilibrium"], false);
+    assert_eq!(v["stop_reason"], "cap (steps)");
+    assert!(v["bare_fraction"].as_f64().unwrap() > 0.0);
+    let first = v["substrate_reached_step"].as_u64().unwrap();
+    let cps = v["checkpoints"].as_array().unwrap();
+    for c in cps {
+        let bare = c["bare_fraction"].as_f64().unwrap();
+        assert!((0.0..=1.0).contains(&bare));
+        if c["step"].as_u64().unwrap() < first {
+            assert_eq!(bare, 0.0);
+        }
+    }
+    // ... while the same rules on 5 mm of sand, for a short run, leave sand everywhere
+    let o = cellsurf(&[SMALL, &["--json"]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("substrate"), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["bare_fraction"], 0.0);
+    assert!(v["substrate_reached_step"].is_null());
+}
+
 /// Waves in physical units: near-bed orbital velocity, period in seconds (converted with the
 /// step duration), their own direction; the orbital diameter U_w T / pi is reported.
 #[test]

@@ -744,7 +744,7 @@ pub fn run(a: Args) -> Result<()> {
     let mut mature = None;
     let mut snaps = if p.until.is_some() {
         let m = run_until_mature(&mut r, steps, &times, progress);
-        mature = Some((m.mature_at, m.checkpoints));
+        mature = Some((m.mature_at, m.checkpoints, m.substrate_at));
         m.snapshots
     } else {
         run_recording(&mut r, steps, &times, progress)
@@ -783,6 +783,10 @@ pub fn run(a: Args) -> Result<()> {
             "stop_reason".into(),
             toml::Value::String(stop_reason.into()),
         ),
+        (
+            "bare_fraction".into(),
+            toml::Value::Float(r.bare_fraction()),
+        ),
     ];
     if let Some(d) = a.duration {
         extra.push(("duration_s".into(), toml::Value::Float(d)));
@@ -812,6 +816,24 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(w);
     }
     let an = Analysis::of(&r);
+    // Troughs down to the substrate: the field is short of sand, whatever it looks like.
+    let bare = r.bare_fraction();
+    if bare > 0.0 && clock.is_some() {
+        conv::note(format_args!(
+            "warning: the troughs have reached the substrate: {:.2} % of the bed is bare at step {} ({:.4} m of sand at the start, --layers = {} x --layer-thickness = {} m, under ripples {:.4} m high); the ripples can grow no deeper there, so where they stop growing the sand has run out{}; give more --layers",
+            100.0 * bare,
+            r.time(),
+            p.layers as f64 * p.layer_thickness,
+            p.layers,
+            p.layer_thickness,
+            an.height_m,
+            if p.until.is_some() {
+                ", and --until equilibrium declares no equilibrium on a bare bed"
+            } else {
+                ""
+            }
+        ));
+    }
     let s = r.stats();
     if a.json {
         let num = |v: f64| {
@@ -850,7 +872,9 @@ pub fn run(a: Args) -> Result<()> {
             "equilibrium": mature.as_ref().map(|m| m.0.is_some()),
             "equilibrium_step": mature.as_ref().and_then(|m| m.0),
             "equilibrium_time_s": mature.as_ref().and_then(|m| m.0).zip(clock).map(|(t, c)| num(c.step_s * t as f64)),
-            "checkpoints": mature.as_ref().map(|m| m.1.iter().map(|&(t, l, h)| serde_json::json!({"step": t, "wavelength_m": num(l), "height_m": num(h)})).collect::<Vec<_>>()),
+            "checkpoints": mature.as_ref().map(|m| m.1.iter().map(|c| serde_json::json!({"step": c.step, "wavelength_m": num(c.wavelength_m), "height_m": num(c.height_m), "bare_fraction": c.bare_fraction})).collect::<Vec<_>>()),
+            "substrate_reached_step": mature.as_ref().and_then(|m| m.2),
+            "bare_fraction": bare,
             "steps": s.steps,
             "automata": r.automata(),
             "activations": s.activations,

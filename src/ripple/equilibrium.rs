@@ -8,6 +8,12 @@
 //! least [`GROWN`] times the initial bed's (a bed that stays at its initial roughness has not
 //! formed ripples yet, and coarse sand may need far longer to start), so a bed that never
 //! forms ripples runs to the cap.
+//!
+//! Only a field with sand under all its troughs counts: where a trough has reached the
+//! non-erodible substrate ([`Ripple::bare_fraction`] above zero at either checkpoint) the
+//! ripples can grow no deeper, and their growth stops because the sand has run out, not
+//! because they are mature. Such a field runs to the cap, and [`MatureRun::substrate_at`]
+//! says from which checkpoint the substrate showed.
 
 use super::model::Ripple;
 use super::output::run_recording;
@@ -34,6 +40,19 @@ pub fn mature(initial_height: f64, before: &Analysis, after: &Analysis) -> bool 
         && after.height_m >= GROWN * initial_height
 }
 
+/// The field measured at a checkpoint of [`run_until_mature`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Checkpoint {
+    /// Steps since the start.
+    pub step: u64,
+    /// Dominant wavelength, m.
+    pub wavelength_m: f64,
+    /// Ripple height, m.
+    pub height_m: f64,
+    /// Share of the columns down to the substrate ([`Ripple::bare_fraction`]), in [0, 1].
+    pub bare_fraction: f64,
+}
+
 /// What [`run_until_mature`] did.
 #[derive(Clone, Debug)]
 pub struct MatureRun {
@@ -42,12 +61,15 @@ pub struct MatureRun {
     pub snapshots: Vec<(u64, Vec<f32>)>,
     /// The step at which the field was found mature (`None`: the cap came first).
     pub mature_at: Option<u64>,
-    /// (step, wavelength m, height m) at every checkpoint.
-    pub checkpoints: Vec<(u64, f64, f64)>,
+    /// The field at every checkpoint.
+    pub checkpoints: Vec<Checkpoint>,
+    /// The first checkpoint at which a trough had reached the substrate (`None`: sand under
+    /// every trough at every checkpoint). From then on no pair of checkpoints is judged.
+    pub substrate_at: Option<u64>,
 }
 
-/// Runs `r` until it is mature ([`mature`] between checkpoints `t` and `2 t`) or `cap` steps,
-/// keeping the elevation at each of `times` reached; `progress(done)` after each step.
+/// Runs `r` until it is mature ([`mature`] between checkpoints `t` and `2 t`, with no bare
+/// column at either) or `cap` steps, keeping the elevation at each of `times` reached; `progress(done)` after each step.
 pub fn run_until_mature(
     r: &mut Ripple,
     cap: u64,
@@ -58,8 +80,9 @@ pub fn run_until_mature(
     let mut checkpoints = Vec::new();
     let mut done = 0u64;
     let mut next = FIRST_CHECK.min(cap);
-    let mut last: Option<Analysis> = None;
+    let mut last: Option<(Analysis, f64)> = None;
     let mut mature_at = None;
+    let mut substrate_at = None;
     let initial_height = Analysis::of(r).height_m;
     while done < cap {
         let n = next - done;
@@ -74,15 +97,26 @@ pub fn run_until_mature(
         }
         done = next;
         let a = Analysis::of(r);
-        checkpoints.push((done, a.wavelength_m, a.height_m));
-        if let Some(b) = &last
+        let bare = r.bare_fraction();
+        checkpoints.push(Checkpoint {
+            step: done,
+            wavelength_m: a.wavelength_m,
+            height_m: a.height_m,
+            bare_fraction: bare,
+        });
+        if bare > 0.0 && substrate_at.is_none() {
+            substrate_at = Some(done);
+        }
+        if let Some((b, bare_before)) = &last
             && done >= 2 * FIRST_CHECK
+            && *bare_before == 0.0
+            && bare == 0.0
             && mature(initial_height, b, &a)
         {
             mature_at = Some(done);
             break;
         }
-        last = Some(a);
+        last = Some((a, bare));
         next = (2 * done).min(cap);
     }
     if snapshots.last().is_none_or(|s| s.0 != r.time()) {
@@ -93,6 +127,7 @@ pub fn run_until_mature(
         snapshots,
         mature_at,
         checkpoints,
+        substrate_at,
     }
 }
 
@@ -147,6 +182,39 @@ mod tests {
     }
 
     #[test]
+    fn a_field_down_to_the_substrate_is_never_mature() {
+        use crate::ripple::RippleParams;
+        // 3 mm of sand (6 automata) on a 12 x 6 cm domain: the troughs reach the substrate,
+        // and the field then stalls at about 6 mm high
+        let p = RippleParams {
+            nx: 24,
+            ny: 12,
+            layers: 6,
+            roughness: 1,
+            seed: 3,
+            ..RippleParams::default()
+        };
+        let mut r = Ripple::new(&p).unwrap();
+        let h0 = Analysis::of(&r).height_m;
+        let m = run_until_mature(&mut r, 128_000, &[], |_| {});
+        let cps = &m.checkpoints;
+        assert!(m.substrate_at.is_some(), "{cps:?}");
+        assert_eq!(m.mature_at, None, "{cps:?}");
+        assert_eq!(cps.last().unwrap().step, 128_000);
+        // ... although wavelength and height alone pass the test between two checkpoints,
+        // both with bare troughs
+        let stalled = cps.windows(2).any(|w| {
+            let f = |c: &Checkpoint| field(c.wavelength_m, c.height_m);
+            w[0].step >= FIRST_CHECK
+                && w[0].bare_fraction > 0.0
+                && w[1].bare_fraction > 0.0
+                && mature(h0, &f(&w[0]), &f(&w[1]))
+        });
+        assert!(stalled, "{cps:?}");
+        assert_eq!(r.mass_change(), 0);
+    }
+
+    #[test]
     fn a_field_that_keeps_coarsening_runs_to_the_cap() {
         use crate::ripple::RippleParams;
         let p = RippleParams {
@@ -158,7 +226,7 @@ mod tests {
         let mut r = Ripple::new(&p).unwrap();
         let m = run_until_mature(&mut r, 2500, &[0, 2500], |_| {});
         // checkpoints 1000, 2000 and the cap
-        let steps: Vec<u64> = m.checkpoints.iter().map(|c| c.0).collect();
+        let steps: Vec<u64> = m.checkpoints.iter().map(|c| c.step).collect();
         assert_eq!(steps[..2], [1000, 2000]);
         match m.mature_at {
             Some(t) => assert!(t >= 2000 && steps.contains(&t)),

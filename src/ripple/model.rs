@@ -308,6 +308,14 @@ impl Ripple {
         let gd = self.p.layer_thickness;
         self.vol.heights().iter().map(|&h| h as f64 * gd).collect()
     }
+    /// Share of the columns that are bare (no automaton left: the non-erodible substrate
+    /// shows), in [0, 1]. A field whose troughs have reached the substrate is short of sand:
+    /// its ripples can grow no deeper, and a stop in their growth there is the sand running
+    /// out, not an equilibrium ([`crate::ripple::equilibrium`]).
+    pub fn bare_fraction(&self) -> f64 {
+        let h = self.vol.heights();
+        h.iter().filter(|&&v| v == 0).count() as f64 / h.len().max(1) as f64
+    }
     /// The flow during step `t`.
     pub fn flow_at(&self, t: u64) -> Flow {
         Flow::at(&self.p, t, self.two_d)
