@@ -126,9 +126,9 @@ pub struct Args {
     #[arg(long, allow_hyphen_values = true)]
     wave_friction_factor: Option<f64>,
     /// The lee vortex of wave ripples (an experiment, docs/ripple.md "Waves"): the shelter
-    /// behind a crest reaches no further than the water has travelled since the flow reversed,
-    /// A (1 - cos psi) with A = U_w T / (2 pi), and grains in it are carried back towards the
-    /// crest (needs --wave-period) [default: off].
+    /// behind a crest reaches no further than the vortex has travelled since the flow reversed,
+    /// half the water's travel, A (1 - cos psi) / 2 with A = U_w T / (2 pi), and grains in it
+    /// are carried back towards the crest (needs --wave-period) [default: off].
     #[arg(long)]
     wave_vortex: bool,
     /// The vortex's return speed as a fraction of the free stream's, 0 to 1 [default: 0.5].

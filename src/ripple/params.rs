@@ -166,9 +166,10 @@ pub struct RippleParams {
     /// The lee vortex of wave ripples (an experiment, `docs/ripple.md`, "Waves"): the orbital
     /// excursion amplitude `A = U_w T / (2 pi)`, m, of the waves (the command line's
     /// `--wave-vortex` sets it from the waves given); 0: off. Where the waves dominate, the
-    /// water's shelter behind a crest reaches no further than the water has travelled since
-    /// the flow last reversed, `A (1 - cos psi)`, and a grain in that shelter is carried back
-    /// towards the crest by the vortex. Left out of files when 0. Default 0.
+    /// water's shelter behind a crest reaches no further than the lee vortex has travelled
+    /// since the flow last reversed, half the water's travel, `A (1 - cos psi) / 2`
+    /// ([`crate::ripple::water::VORTEX_CONVECTION`]), and a grain in that shelter is carried
+    /// back towards the crest by the vortex. Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub wave_vortex: f64,
     /// The vortex's near-bed return speed as a fraction of the free stream's, in [0, 1] (with

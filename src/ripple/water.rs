@@ -39,6 +39,16 @@ use super::params::RippleParams;
 /// up to once around the torus).
 pub const MAX_REACH: usize = 64;
 
+/// The speed of the lee vortex of a wave ripple as a fraction of the water's: the vortex
+/// rolls up in the shear layer between the moving water and the still water behind the
+/// crest, whose large eddies travel at the mean of the two speeds, `(U + 0) / 2` (G. L. Brown
+/// and A. Roshko (1974), "On density effects and large structure in turbulent mixing
+/// layers", *J. Fluid Mech.* 64(4), 775-816, <https://doi.org/10.1017/S002211207400190X>).
+/// So the vortex, and the shelter behind the crest, reach half as far as the water has
+/// travelled since the flow reversed: at most the excursion amplitude `A`, at the end of a
+/// half cycle.
+pub const VORTEX_CONVECTION: f64 = 0.5;
+
 /// The free-stream flow during one step.
 #[derive(Clone, Debug)]
 pub struct Flow {
@@ -50,9 +60,10 @@ pub struct Flow {
     pub octant: f64,
     /// Offsets (dx, dy) of the points 1..=MAX_REACH bins upstream.
     pub upstream: Vec<(i32, i32)>,
-    /// The lee vortex of wave ripples (`wave_vortex`, where the waves dominate): the distance
-    /// the water has travelled since the flow last reversed, `A (1 - cos psi)` in bins (at
-    /// least 1), beyond which no crest shelters the bed; `None` without the vortex rule.
+    /// The lee vortex of wave ripples (`wave_vortex`, where the waves dominate): how far the
+    /// vortex has travelled since the flow last reversed, [`VORTEX_CONVECTION`] times the
+    /// water's travel `A (1 - cos psi)`, in bins (at least 1), beyond which no crest shelters
+    /// the bed; `None` without the vortex rule.
     pub vortex_reach: Option<usize>,
 }
 
@@ -102,7 +113,7 @@ impl Flow {
         let vortex_reach =
             (p.wave_vortex > 0.0 && p.wave_period > 0.0 && p.waves_dominate()).then(|| {
                 let psi = (2.0 * PI * (t as f64 + 0.5) / p.wave_period).rem_euclid(PI);
-                let x = p.wave_vortex * (1.0 - psi.cos()) / p.bin_size;
+                let x = VORTEX_CONVECTION * p.wave_vortex * (1.0 - psi.cos()) / p.bin_size;
                 (x.round() as usize).max(1)
             });
         Flow {
@@ -429,8 +440,9 @@ mod tests {
     }
 
     #[test]
-    fn vortex_reach_is_the_waters_travel_since_the_reversal() {
-        // A = 0.05 m = 10 bins of 5 mm; a period of 40 steps: psi = 2 pi (t + 1/2) / 40 mod pi
+    fn vortex_reach_is_half_the_waters_travel_since_the_reversal() {
+        // A = 0.05 m = 10 bins of 5 mm; a period of 40 steps: psi = 2 pi (t + 1/2) / 40 mod pi;
+        // the vortex travels at half the water's speed: A (1 - cos psi) / 2 = 5 (1 - cos psi)
         let p = RippleParams {
             current_speed: 0.0,
             wave_amplitude: 0.4,
@@ -440,7 +452,7 @@ mod tests {
         };
         for t in 0..80u64 {
             let psi = (2.0 * PI * (t as f64 + 0.5) / 40.0).rem_euclid(PI);
-            let want = ((10.0 * (1.0 - psi.cos())).round() as usize).max(1);
+            let want = ((5.0 * (1.0 - psi.cos())).round() as usize).max(1);
             assert_eq!(Flow::at(&p, t, true).vortex_reach, Some(want), "{t}");
         }
         // off without the vortex, and where the current dominates
