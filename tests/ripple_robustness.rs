@@ -327,6 +327,7 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
     let stop = side["stop_step"].as_u64().unwrap();
     assert!(stop < 128000, "{side}");
     assert_eq!(side["stop_reason"], "equilibrium");
+    assert_eq!(side["bare_fraction"], 0.0);
     assert_eq!(side["elevation_times"], serde_json::json!([0, stop]));
     assert!(
         e.contains("were not reached") && e.contains("100000, 128000"),

@@ -818,17 +818,28 @@ pub fn run(a: Args) -> Result<()> {
     let an = Analysis::of(&r);
     // Troughs down to the substrate: the field is short of sand, whatever it looks like.
     let bare = r.bare_fraction();
-    if bare > 0.0 && clock.is_some() {
+    let substrate_step = mature.as_ref().and_then(|m| m.2);
+    if (bare > 0.0 || substrate_step.is_some()) && clock.is_some() {
+        let first = match substrate_step {
+            Some(t) if t < r.time() => format!(", first seen at step {t}"),
+            _ => String::new(),
+        };
+        let high = if an.height_m.is_finite() {
+            format!(", under ripples {:.4} m high", an.height_m)
+        } else {
+            String::new()
+        };
         conv::note(format_args!(
-            "warning: the troughs have reached the substrate: {:.2} % of the bed is bare at step {} ({:.4} m of sand at the start, --layers = {} x --layer-thickness = {} m, under ripples {:.4} m high); the ripples can grow no deeper there, so where they stop growing the sand has run out{}; give more --layers",
+            "warning: the bed has reached the substrate: {} of {} columns ({:.3} %) are bare at step {}{first} ({:.4} m of sand at the start: --layers = {} x --layer-thickness = {} m{high}); the ripples can grow no deeper there, so where they stop growing the sand has run out{}; give more --layers",
+            r.bare_columns(),
+            r.volume().columns(),
             100.0 * bare,
             r.time(),
             p.layers as f64 * p.layer_thickness,
             p.layers,
             p.layer_thickness,
-            an.height_m,
             if p.until.is_some() {
-                ", and --until equilibrium declares no equilibrium on a bare bed"
+                ", and --until equilibrium declares no equilibrium on a bed that has shown the substrate"
             } else {
                 ""
             }
@@ -873,7 +884,7 @@ pub fn run(a: Args) -> Result<()> {
             "equilibrium_step": mature.as_ref().and_then(|m| m.0),
             "equilibrium_time_s": mature.as_ref().and_then(|m| m.0).zip(clock).map(|(t, c)| num(c.step_s * t as f64)),
             "checkpoints": mature.as_ref().map(|m| m.1.iter().map(|c| serde_json::json!({"step": c.step, "wavelength_m": num(c.wavelength_m), "height_m": num(c.height_m), "bare_fraction": c.bare_fraction})).collect::<Vec<_>>()),
-            "substrate_reached_step": mature.as_ref().and_then(|m| m.2),
+            "substrate_reached_step": substrate_step,
             "bare_fraction": bare,
             "steps": s.steps,
             "automata": r.automata(),

@@ -9,11 +9,13 @@
 //! formed ripples yet, and coarse sand may need far longer to start), so a bed that never
 //! forms ripples runs to the cap.
 //!
-//! Only a field with sand under all its troughs counts: where a trough has reached the
-//! non-erodible substrate ([`Ripple::bare_fraction`] above zero at either checkpoint) the
-//! ripples can grow no deeper, and their growth stops because the sand has run out, not
-//! because they are mature. Such a field runs to the cap, and [`MatureRun::substrate_at`]
-//! says from which checkpoint the substrate showed.
+//! Only a field with sand under all its troughs counts: once a trough has reached the
+//! non-erodible substrate ([`Ripple::bare_fraction`] above zero at a checkpoint) the ripples
+//! can grow no deeper, and a stop in their growth is the sand running out, not maturity. From
+//! that checkpoint on no pair is judged (even if sand covers the spot again), the field runs
+//! to the cap, and [`MatureRun::substrate_at`] says from which checkpoint the substrate
+//! showed. The bed is looked at only at the checkpoints: a trough that touches the substrate
+//! between two of them and is covered again goes unseen.
 
 use super::model::Ripple;
 use super::output::run_recording;
@@ -69,7 +71,8 @@ pub struct MatureRun {
 }
 
 /// Runs `r` until it is mature ([`mature`] between checkpoints `t` and `2 t`, with no bare
-/// column at either) or `cap` steps, keeping the elevation at each of `times` reached; `progress(done)` after each step.
+/// column at any checkpoint so far) or `cap` steps, keeping the elevation at each of `times`
+/// reached; `progress(done)` after each step.
 pub fn run_until_mature(
     r: &mut Ripple,
     cap: u64,
@@ -109,8 +112,8 @@ pub fn run_until_mature(
         }
         if let Some((b, bare_before)) = &last
             && done >= 2 * FIRST_CHECK
+            && substrate_at.is_none()
             && *bare_before == 0.0
-            && bare == 0.0
             && mature(initial_height, b, &a)
         {
             mature_at = Some(done);
@@ -205,10 +208,7 @@ mod tests {
         // both with bare troughs
         let stalled = cps.windows(2).any(|w| {
             let f = |c: &Checkpoint| field(c.wavelength_m, c.height_m);
-            w[0].step >= FIRST_CHECK
-                && w[0].bare_fraction > 0.0
-                && w[1].bare_fraction > 0.0
-                && mature(h0, &f(&w[0]), &f(&w[1]))
+            w[0].bare_fraction > 0.0 && w[1].bare_fraction > 0.0 && mature(h0, &f(&w[0]), &f(&w[1]))
         });
         assert!(stalled, "{cps:?}");
         assert_eq!(r.mass_change(), 0);

@@ -313,8 +313,11 @@ impl Ripple {
     /// its ripples can grow no deeper, and a stop in their growth there is the sand running
     /// out, not an equilibrium ([`crate::ripple::equilibrium`]).
     pub fn bare_fraction(&self) -> f64 {
-        let h = self.vol.heights();
-        h.iter().filter(|&&v| v == 0).count() as f64 / h.len().max(1) as f64
+        self.bare_columns() as f64 / self.vol.columns().max(1) as f64
+    }
+    /// Number of bare columns (see [`Ripple::bare_fraction`]).
+    pub fn bare_columns(&self) -> usize {
+        self.vol.heights().iter().filter(|&&v| v == 0).count()
     }
     /// The flow during step `t`.
     pub fn flow_at(&self, t: u64) -> Flow {
