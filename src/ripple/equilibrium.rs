@@ -83,7 +83,7 @@ pub fn run_until_mature(
     let mut checkpoints = Vec::new();
     let mut done = 0u64;
     let mut next = FIRST_CHECK.min(cap);
-    let mut last: Option<(Analysis, f64)> = None;
+    let mut last: Option<Analysis> = None;
     let mut mature_at = None;
     let mut substrate_at = None;
     let initial_height = Analysis::of(r).height_m;
@@ -110,16 +110,16 @@ pub fn run_until_mature(
         if bare > 0.0 && substrate_at.is_none() {
             substrate_at = Some(done);
         }
-        if let Some((b, bare_before)) = &last
+        // (no bare column so far: neither this checkpoint nor the one before)
+        if let Some(b) = &last
             && done >= 2 * FIRST_CHECK
             && substrate_at.is_none()
-            && *bare_before == 0.0
             && mature(initial_height, b, &a)
         {
             mature_at = Some(done);
             break;
         }
-        last = Some((a, bare));
+        last = Some(a);
         next = (2 * done).min(cap);
     }
     if snapshots.last().is_none_or(|s| s.0 != r.time()) {
