@@ -556,8 +556,10 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
     }
 }
 
-/// The lee vortex's flags: each rejects what it cannot act on, naming itself; a current that
-/// dominates the waves turns the vortex off with a warning; and a run with it is recorded.
+/// The lee vortex's flags: on by default with waves and a period, off with `--no-wave-vortex`;
+/// each flag rejects what it cannot act on, naming itself; a current that dominates the waves
+/// turns an explicitly asked vortex off with a warning (and a default one silently); and a run
+/// with it is recorded.
 #[test]
 fn wave_vortex_flags_and_bad_input() {
     let run = |extra: &[&str]| cellsurf(&[SMALL, extra].concat());
@@ -574,6 +576,20 @@ fn wave_vortex_flags_and_bad_input() {
         (
             &["--vortex-strength", "0.3"][..],
             "--vortex-strength",
+            "--wave-period",
+        ),
+        (
+            &[
+                &waves[..],
+                &["--no-wave-vortex", "--vortex-strength", "0.3"],
+            ]
+            .concat()[..],
+            "--vortex-strength",
+            "--no-wave-vortex",
+        ),
+        (
+            &[&waves[..], &["--no-wave-vortex", "--wave-vortex"]].concat()[..],
+            "--no-wave-vortex",
             "--wave-vortex",
         ),
         (
@@ -589,34 +605,69 @@ fn wave_vortex_flags_and_bad_input() {
     ] {
         assert_refused(extra, &run(extra), flag, why);
     }
-    let o = run(&[
+    // a combined flow where the current dominates: warned when the vortex is asked for, not
+    // by default
+    let combined = [
         "--current-speed",
         "0.5",
         "--wave-velocity",
         "0.1",
         "--wave-period",
         "2s",
-        "--wave-vortex",
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(0), "{err}");
-    assert!(
-        err.contains("--wave-vortex") && err.contains("the vortex is off"),
-        "{err}"
+    ];
+    for (extra, warned) in [(&["--wave-vortex"][..], true), (&[][..], false)] {
+        let o = run(&[&combined[..], extra].concat());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{err}");
+        assert_eq!(
+            err.contains("--wave-vortex") && err.contains("the vortex is off"),
+            warned,
+            "{extra:?}: {err}"
+        );
+        assert_eq!(err.contains("vortex"), warned, "{extra:?}: {err}");
+    }
+    // and the same bed as without it, byte for byte (the vortex acts only where the waves
+    // dominate), where waves alone get another bed from it
+    let bed = |flow: &[&str], extra: &[&str], name: &str| {
+        let out = tmp(name);
+        let o = cellsurf(
+            &[
+                &["ripple", "--size", "24x12", "--layers", "10", "--seed", "3"][..],
+                flow,
+                &["--steps", "400", "--quiet", "--out", out.to_str().unwrap()][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{flow:?} {extra:?}");
+        std::fs::read(&out).unwrap()
+    };
+    assert_eq!(
+        bed(&combined, &[], "vortex-combined-on.npy"),
+        bed(&combined, &["--no-wave-vortex"], "vortex-combined-off.npy")
     );
-    let o = run(&[&waves[..], &["--wave-vortex", "--print-scenario"]].concat());
-    let toml = String::from_utf8_lossy(&o.stdout);
-    // A = U_w T / (2 pi) = 0.4 x 2 / (2 pi) m
-    let a: f64 = toml
-        .lines()
-        .find_map(|l| l.strip_prefix("wave_vortex = "))
-        .expect("wave_vortex recorded")
-        .parse()
-        .unwrap();
-    assert!(
-        (a - 0.8 / (2.0 * std::f64::consts::PI)).abs() < 1e-12,
-        "{a}"
+    assert_ne!(
+        bed(&waves, &[], "vortex-waves-on.npy"),
+        bed(&waves, &["--no-wave-vortex"], "vortex-waves-off.npy")
     );
+    // A = U_w T / (2 pi) = 0.4 x 2 / (2 pi) m, by default and when asked for; absent (0) when
+    // switched off
+    let recorded = |extra: &[&str]| -> Option<f64> {
+        let o = run(&[&waves[..], extra, &["--print-scenario"]].concat());
+        assert_eq!(o.status.code(), Some(0), "{extra:?}");
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .find_map(|l| l.strip_prefix("wave_vortex = "))
+            .map(|v| v.parse().unwrap())
+    };
+    for extra in [&[][..], &["--wave-vortex"][..]] {
+        let a = recorded(extra).expect("wave_vortex recorded");
+        assert!(
+            (a - 0.8 / (2.0 * std::f64::consts::PI)).abs() < 1e-12,
+            "{extra:?}: {a}"
+        );
+    }
+    assert_eq!(recorded(&["--no-wave-vortex"]), None);
 }
 
 /// A domain shorter than 4 wavelengths of the predicted ripple along the flow gets a warning

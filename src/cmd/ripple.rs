@@ -77,7 +77,8 @@ pub struct Args {
     /// Stop early once the field is mature: `equilibrium` (wavelength and height change by
     /// less than 10 % between t and 2t, checked at 1000 steps and its doublings); --steps or
     /// --duration is the cap. Recorded as `until` in the parameters, with the step and reason
-    /// of the stop in the output.
+    /// of the stop in the output. A field that pauses while it coarsens can pass the test
+    /// early (docs/ripple.md "Until equilibrium"): check maturity on a longer run.
     #[arg(long, value_name = "WHEN", value_parser = ["equilibrium"])]
     until: Option<String>,
     /// Fraction of automata triggered per step, above 0 and at most 1 [default: 0.001].
@@ -125,12 +126,18 @@ pub struct Args {
     /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3].
     #[arg(long, allow_hyphen_values = true)]
     wave_friction_factor: Option<f64>,
-    /// The lee vortex of wave ripples (an experiment, docs/ripple.md "Waves"): the shelter
-    /// behind a crest reaches no further than the vortex has travelled since the flow reversed,
-    /// half the water's travel, A (1 - cos psi) / 2 with A = U_w T / (2 pi), and grains in it
-    /// are carried back towards the crest (needs --wave-period) [default: off].
-    #[arg(long)]
+    /// The lee vortex of wave ripples (docs/ripple.md "Waves"): the shelter behind a crest
+    /// reaches no further than the vortex has travelled since the flow reversed, half the
+    /// water's travel, A (1 - cos psi) / 2 with A = U_w T / (2 pi), and grains in it are
+    /// carried back towards the crest. It acts where the waves' bed stress exceeds the
+    /// current's [default: on with waves and --wave-period; this flag only asks for it
+    /// explicitly, and warns where the current dominates].
+    #[arg(long, conflicts_with = "no_wave_vortex")]
     wave_vortex: bool,
+    /// Switch the lee vortex of wave ripples off (the paper's rules alone: flatter wave
+    /// ripples, docs/ripple.md "Waves").
+    #[arg(long)]
+    no_wave_vortex: bool,
     /// The vortex's return speed as a fraction of the free stream's, 0 to 1 [default: 0.5].
     #[arg(long)]
     vortex_strength: Option<f64>,
@@ -290,11 +297,18 @@ fn params(a: &Args) -> Result<RippleParams> {
     if let Some(v) = a.vortex_strength {
         p.vortex_strength = v;
     }
-    if a.wave_vortex {
-        let Some(t) = a.wave_period else {
+    // The lee vortex: on by default with waves whose period is given in seconds here (its
+    // reach needs the orbital excursion in metres); a scenario's own `wave_vortex` is kept
+    // otherwise.
+    match (a.wave_period, a.no_wave_vortex) {
+        (_, true) => p.wave_vortex = 0.0,
+        (Some(t), false) => {
+            p.wave_vortex = p.wave_amplitude * t / (2.0 * std::f64::consts::PI);
+        }
+        (None, false) if a.wave_vortex => {
             bail!("--wave-vortex needs --wave-period (the orbital excursion U_w T / (2 pi))");
-        };
-        p.wave_vortex = p.wave_amplitude * t / (2.0 * std::f64::consts::PI);
+        }
+        (None, false) => {}
     }
     // the waves' own bed friction, from their orbital excursion (seconds given here)
     if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {
@@ -339,10 +353,10 @@ fn params(a: &Args) -> Result<RippleParams> {
     // the lee vortex's options with no vortex to act on, or a vortex the current overrides
     if let Some(v) = a.vortex_strength.filter(|_| p.wave_vortex == 0.0) {
         bail!(
-            "--vortex-strength = {v} acts on the lee vortex, which is off: give --wave-vortex (with waves and --wave-period)"
+            "--vortex-strength = {v} acts on the lee vortex, which is off: it needs waves (--wave-velocity or --wave-height) with --wave-period, and no --no-wave-vortex"
         );
     }
-    if p.wave_vortex > 0.0 && !p.waves_dominate() {
+    if a.wave_vortex && p.wave_vortex > 0.0 && !p.waves_dominate() {
         conv::note(format_args!(
             "warning: --wave-vortex acts only where the waves' bed stress exceeds the current's; here the current dominates (--current-speed = {} m/s against waves rubbing the bed like {:.3} m/s), so the vortex is off for this run",
             p.current_speed,
