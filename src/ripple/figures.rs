@@ -653,9 +653,17 @@ fn validation_angles() -> Vec<f64> {
     (0..=12).map(|i| 15.0 * i as f64).collect()
 }
 
-/// Simulated seconds of the validation runs: the current ripples at both, the angles at the
-/// first, the waves at the second.
+/// Simulated seconds of the validation runs of current ripples (both) and angles (the first).
 const VALIDATION_SECONDS: [f64; 2] = [300.0, 1800.0];
+
+/// Simulated seconds of the wave-ripple runs (4.4 and 8.9 hours of waves: the lee vortex's
+/// fields take hours to stop growing); the second is twice the first, for the test of
+/// maturity (wavelength and height within 10 % between t and 2t).
+const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
+
+/// Automata per column of the wave-ripple runs: 10 cm of sand (automata of 0.5 mm), so that
+/// the troughs of the vortex ripples (4-8 cm high) stay off the substrate.
+const VALIDATION_WAVE_LAYERS: usize = 200;
 
 /// One case of the validation study: current ripples of a grain size, wave ripples of an
 /// orbital diameter, or a current angle.
@@ -663,8 +671,8 @@ const VALIDATION_SECONDS: [f64; 2] = [300.0, 1800.0];
 enum ValidationCase {
     /// d50 (mm), seconds of flow.
     Current(f64, f64),
-    /// d0 (m).
-    Wave(f64),
+    /// d0 (m), seconds of waves.
+    Wave(f64, f64),
     /// Current angle (deg).
     Angle(f64),
 }
@@ -678,7 +686,11 @@ impl ValidationCase {
                     .iter()
                     .map(move |&d| ValidationCase::Current(d, t))
             })
-            .chain(VALIDATION_D0_M.iter().map(|&d| ValidationCase::Wave(d)))
+            .chain(VALIDATION_WAVE_SECONDS.iter().flat_map(|&t| {
+                VALIDATION_D0_M
+                    .iter()
+                    .map(move |&d| ValidationCase::Wave(d, t))
+            }))
             .chain(validation_angles().into_iter().map(ValidationCase::Angle))
             .collect()
     }
@@ -687,7 +699,7 @@ impl ValidationCase {
     fn seconds(self) -> f64 {
         match self {
             ValidationCase::Current(_, t) => t,
-            ValidationCase::Wave(_) => VALIDATION_SECONDS[1],
+            ValidationCase::Wave(_, t) => t,
             ValidationCase::Angle(_) => VALIDATION_SECONDS[0],
         }
     }
@@ -695,14 +707,17 @@ impl ValidationCase {
     fn name(self) -> String {
         match self {
             ValidationCase::Current(d, t) => format!("current d50 {d} mm {t} s"),
-            ValidationCase::Wave(d) => format!("wave d0 {d} m"),
+            ValidationCase::Wave(d, t) => format!("wave d0 {d} m {t} s"),
             ValidationCase::Angle(a) => format!("current angle {a} deg"),
         }
     }
 
     /// The run's parameters (before the step duration sets steps and wave period): the
     /// figure scene on 192 x 48 bins of 5 mm (96 x 24 cm) along the flow, 128 x 128 bins
-    /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column.
+    /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
+    /// section along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
+    /// long-crested), with 200 automata per column, the lee vortex and the command line's
+    /// sorting.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
         let base = RippleParams {
             layers: 20,
@@ -716,9 +731,14 @@ impl ValidationCase {
                 d50,
                 ..base
             },
-            ValidationCase::Wave(_) => RippleParams {
-                nx: 192,
-                ny: 48,
+            ValidationCase::Wave(d0, _) => RippleParams {
+                nx: 512,
+                ny: 8,
+                layers: VALIDATION_WAVE_LAYERS,
+                // the orbital excursion A = U_w T / (2 pi) = d0 / 2, as the command line sets it
+                wave_vortex: d0 / 2.0,
+                // the command line's well-sorted sand (the figure scene's is poorly sorted)
+                sorting: RippleParams::default().sorting,
                 d50: 0.3,
                 current_speed: 0.0,
                 wave_amplitude: VALIDATION_UW,
@@ -747,10 +767,10 @@ struct ValidationRecord {
     steps: u64,
 }
 
-/// Runs `case` with `seed` for its seconds of flow ([`VALIDATION_SECONDS`]).
+/// Runs `case` with `seed` for its seconds of flow ([`ValidationCase::seconds`]).
 fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, String> {
     let mut p = case.params(seed)?;
-    if let ValidationCase::Wave(d0) = case {
+    if let ValidationCase::Wave(d0, _) = case {
         // the waves' own bed friction, as the command line sets it
         let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
         p.wave_friction_factor =
@@ -758,7 +778,7 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
     }
     let clock = super::clock::StepClock::of(&p).map_err(|e| e.to_string())?;
     p.steps = clock.steps_for(case.seconds()).map_err(|e| e.to_string())?;
-    if let ValidationCase::Wave(d0) = case {
+    if let ValidationCase::Wave(d0, _) = case {
         let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
         p.wave_period = period_s / clock.step_s;
     }
@@ -776,8 +796,9 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 }
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
-/// grain sizes after 300 s and 1800 s of flow, wave ripples for three orbital diameters after
-/// 1800 s and the crest normal for current angles 0-180 deg after 300 s, 3 seeds each
+/// grain sizes after 300 s and 1800 s of flow, wave ripples (with the lee vortex, on sections
+/// with 10 cm of sand) for three orbital diameters after 16,000 s and 32,000 s, and the crest
+/// normal for current angles 0-180 deg after 300 s, 3 seeds each
 /// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).
 pub struct ValidationStudy;
 
@@ -921,14 +942,18 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         points: false,
     });
     let d0: Vec<f64> = VALIDATION_D0_M.iter().map(|d| 100.0 * d).collect();
-    let waves: Vec<(f64, f64)> = VALIDATION_D0_M
-        .iter()
-        .map(|&d| {
-            let (m, se) = stat(ValidationCase::Wave(d), &|r| r.wavelength_m);
-            (100.0 * m, 100.0 * se)
-        })
-        .collect();
-    let mut wv = model_series("model", &d0, &waves).to_vec();
+    let [w1, w2] = VALIDATION_WAVE_SECONDS;
+    let waves = |t: f64| -> Vec<(f64, f64)> {
+        VALIDATION_D0_M
+            .iter()
+            .map(|&d| {
+                let (m, se) = stat(ValidationCase::Wave(d, t), &|r| r.wavelength_m);
+                (100.0 * m, 100.0 * se)
+            })
+            .collect()
+    };
+    let mut wv = model_series(&format!("model, {w1} s"), &d0, &waves(w1)).to_vec();
+    wv.extend(model_series(&format!("model, {w2} s"), &d0, &waves(w2)));
     let d0_line = [15.0, 45.0];
     wv.push(Series {
         label: "Wiberg & Harris (1994): 0.62 d0".into(),
@@ -998,7 +1023,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         y: vec![2.0, 2.0],
         points: false,
     });
-    let mut wave_shape = shape(&ValidationCase::Wave, &VALIDATION_D0_M, &d0);
+    let mut wave_shape = shape(&|d| ValidationCase::Wave(d, w2), &VALIDATION_D0_M, &d0);
     wave_shape.push(Series {
         label: "Wiberg & Harris (1994), orbital: ripple index".into(),
         x: d0.clone(),
@@ -1035,7 +1060,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: format!("wave ripples (0.3 mm, U_w = {VALIDATION_UW} m/s, 96 x 24 cm, {t2} s)"),
+            title: format!("wave ripples (0.3 mm, U_w = {VALIDATION_UW} m/s, 256 x 4 cm, vortex)"),
             x_label: "orbital diameter d0 (cm)".into(),
             y_label: "wavelength (cm)".into(),
             series: wv,
@@ -1059,7 +1084,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: true,
         },
         Chart {
-            title: format!("wave ripples ({t2} s): ripple index and symmetry index"),
+            title: format!("wave ripples ({w2} s): ripple index and symmetry index"),
             x_label: "orbital diameter d0 (cm)".into(),
             y_label: "ripple index, symmetry index".into(),
             series: wave_shape,
