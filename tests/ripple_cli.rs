@@ -454,6 +454,9 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
     ];
     let o = run(&surface);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // waves by their surface height get the lee vortex by default, as by their velocity
+    let scenario = run(&[&surface[..], &["--print-scenario"]].concat()).stdout;
+    assert!(String::from_utf8_lossy(&scenario).contains("\nwave_vortex = "));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let uw = v["wave_velocity_m_per_s"].as_f64().unwrap();
     assert!((uw - 0.39002).abs() < 1e-4, "{uw}");
@@ -574,9 +577,25 @@ fn wave_vortex_flags_and_bad_input() {
     for (extra, flag, why) in [
         (&["--wave-vortex"][..], "--wave-vortex", "--wave-period"),
         (
+            &[
+                "--wave-vortex",
+                "--wave-velocity",
+                "0",
+                "--wave-period",
+                "2s",
+            ][..],
+            "--wave-vortex",
+            "there are no waves",
+        ),
+        (
+            &["--no-wave-vortex"][..],
+            "--no-wave-vortex",
+            "there are none",
+        ),
+        (
             &["--vortex-strength", "0.3"][..],
             "--vortex-strength",
-            "--wave-period",
+            "there are no waves",
         ),
         (
             &[
@@ -585,12 +604,12 @@ fn wave_vortex_flags_and_bad_input() {
             ]
             .concat()[..],
             "--vortex-strength",
-            "--no-wave-vortex",
+            "--no-wave-vortex switched it off",
         ),
         (
             &[&waves[..], &["--no-wave-vortex", "--wave-vortex"]].concat()[..],
             "--no-wave-vortex",
-            "--wave-vortex",
+            "cannot be used with",
         ),
         (
             &[&waves[..], &["--wave-vortex", "--vortex-strength", "1.5"]].concat()[..],
@@ -615,16 +634,21 @@ fn wave_vortex_flags_and_bad_input() {
         "--wave-period",
         "2s",
     ];
-    for (extra, warned) in [(&["--wave-vortex"][..], true), (&[][..], false)] {
+    for (extra, warned) in [
+        (&["--wave-vortex"][..], Some("--wave-vortex")),
+        (&["--vortex-strength", "0.3"][..], Some("--vortex-strength")),
+        (&[][..], None),
+    ] {
         let o = run(&[&combined[..], extra].concat());
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(0), "{err}");
-        assert_eq!(
-            err.contains("--wave-vortex") && err.contains("the vortex is off"),
-            warned,
-            "{extra:?}: {err}"
-        );
-        assert_eq!(err.contains("vortex"), warned, "{extra:?}: {err}");
+        match warned {
+            Some(flag) => assert!(
+                err.contains(flag) && err.contains("the vortex is off"),
+                "{extra:?}: {err}"
+            ),
+            None => assert!(!err.contains("vortex"), "{extra:?}: {err}"),
+        }
     }
     // and the same bed as without it, byte for byte (the vortex acts only where the waves
     // dominate), where waves alone get another bed from it
@@ -668,6 +692,55 @@ fn wave_vortex_flags_and_bad_input() {
         );
     }
     assert_eq!(recorded(&["--no-wave-vortex"]), None);
+    // a scenario file's own vortex: kept without --wave-period (with a warning where the waves
+    // change), cleared by --no-wave-vortex; a file without the key has none
+    let file = tmp("vortex-scenario.toml");
+    std::fs::write(
+        &file,
+        run(&[&waves[..], &["--print-scenario"]].concat()).stdout,
+    )
+    .unwrap();
+    let from_file = |extra: &[&str]| {
+        let o = cellsurf(
+            &[
+                &[
+                    "ripple",
+                    "--scenario",
+                    file.to_str().unwrap(),
+                    "--print-scenario",
+                ][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert_eq!(o.status.code(), Some(0), "{extra:?}");
+        (
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .find_map(|l| l.strip_prefix("wave_vortex = "))
+                .map(|v| v.parse::<f64>().unwrap()),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let a = 0.8 / (2.0 * std::f64::consts::PI);
+    let (kept, err) = from_file(&[]);
+    assert_eq!(kept, Some(a));
+    assert!(!err.contains("wave_vortex"), "{err}");
+    let (kept, err) = from_file(&["--wave-velocity", "0.6"]);
+    assert_eq!(kept, Some(a));
+    assert!(
+        err.contains("wave_vortex") && err.contains("is kept"),
+        "{err}"
+    );
+    assert_eq!(from_file(&["--no-wave-vortex"]).0, None);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let without: String = text
+        .lines()
+        .filter(|l| !l.starts_with("wave_vortex"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&file, without).unwrap();
+    assert_eq!(from_file(&[]).0, None);
 }
 
 /// A domain shorter than 4 wavelengths of the predicted ripple along the flow gets a warning

@@ -130,15 +130,16 @@ pub struct Args {
     /// reaches no further than the vortex has travelled since the flow reversed, half the
     /// water's travel, A (1 - cos psi) / 2 with A = U_w T / (2 pi), and grains in it are
     /// carried back towards the crest. It acts where the waves' bed stress exceeds the
-    /// current's [default: on with waves and --wave-period; this flag only asks for it
-    /// explicitly, and warns where the current dominates].
+    /// current's [default: on with waves and --wave-period; this flag asks for it explicitly:
+    /// it needs --wave-period and waves, and warns where the current dominates].
     #[arg(long, conflicts_with = "no_wave_vortex")]
     wave_vortex: bool,
     /// Switch the lee vortex of wave ripples off (the paper's rules alone: flatter wave
     /// ripples, docs/ripple.md "Waves").
     #[arg(long)]
     no_wave_vortex: bool,
-    /// The vortex's return speed as a fraction of the free stream's, 0 to 1 [default: 0.5].
+    /// The vortex's return speed as a fraction of the free stream's, 0 to 1; refused when the
+    /// vortex is off [default: 0.5].
     #[arg(long)]
     vortex_strength: Option<f64>,
     /// Direction the waves propagate towards, degrees counter-clockwise from east, -360 to 360;
@@ -308,7 +309,14 @@ fn params(a: &Args) -> Result<RippleParams> {
         (None, false) if a.wave_vortex => {
             bail!("--wave-vortex needs --wave-period (the orbital excursion U_w T / (2 pi))");
         }
-        (None, false) => {}
+        (None, false) => {
+            if p.wave_vortex > 0.0 && (a.wave_amplitude.is_some() || a.wave_height.is_some()) {
+                conv::note(format_args!(
+                    "warning: the scenario's wave_vortex = {} m (the orbital excursion of its own waves) is kept; give --wave-period in seconds to set it anew from the waves, or --no-wave-vortex",
+                    cellsurf::ripple::params::shown(p.wave_vortex)
+                ));
+            }
+        }
     }
     // the waves' own bed friction, from their orbital excursion (seconds given here)
     if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {
@@ -332,14 +340,20 @@ fn params(a: &Args) -> Result<RippleParams> {
                 "wave_friction_factor",
                 a.wave_friction_factor.map(|v| v.to_string()),
             ),
+            ("wave_vortex", a.wave_vortex.then(|| "on".to_string())),
+            ("no_wave_vortex", a.no_wave_vortex.then(|| "on".to_string())),
         ]
         .into_iter()
         .filter_map(|(id, v)| {
             v.map(|v| {
-                format!(
-                    "{} = {v}",
-                    conv::typed_flag(id).unwrap_or_else(|| format!("--{}", id.replace('_', "-")))
-                )
+                let flag =
+                    conv::typed_flag(id).unwrap_or_else(|| format!("--{}", id.replace('_', "-")));
+                // (a switch has no value to show)
+                if v == "on" {
+                    flag
+                } else {
+                    format!("{flag} = {v}")
+                }
             })
         })
         .collect();
@@ -351,14 +365,34 @@ fn params(a: &Args) -> Result<RippleParams> {
         }
     }
     // the lee vortex's options with no vortex to act on, or a vortex the current overrides
-    if let Some(v) = a.vortex_strength.filter(|_| p.wave_vortex == 0.0) {
+    let vortex = p.wave_vortex > 0.0 && p.wave_amplitude > 0.0 && p.wave_period > 0.0;
+    if let Some(v) = a.vortex_strength.filter(|_| !vortex) {
+        let why = if a.no_wave_vortex {
+            "--no-wave-vortex switched it off"
+        } else if p.wave_amplitude == 0.0 {
+            "there are no waves (give --wave-velocity or --wave-height with --water-depth)"
+        } else {
+            "it needs the waves' period in seconds (give --wave-period)"
+        };
+        bail!("--vortex-strength = {v} acts on the lee vortex, which is off: {why}");
+    }
+    if a.wave_vortex && !vortex {
         bail!(
-            "--vortex-strength = {v} acts on the lee vortex, which is off: it needs waves (--wave-velocity or --wave-height) with --wave-period, and no --no-wave-vortex"
+            "--wave-vortex acts on the waves' lee vortex, and there are no waves: give --wave-velocity (near-bed orbital velocity, m/s, above 0) or --wave-height with --water-depth"
         );
     }
-    if a.wave_vortex && p.wave_vortex > 0.0 && !p.waves_dominate() {
+    let asked: Vec<&str> = [
+        ("--wave-vortex", a.wave_vortex),
+        ("--vortex-strength", a.vortex_strength.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(f, given)| given.then_some(f))
+    .collect();
+    if vortex && !asked.is_empty() && !p.waves_dominate() {
         conv::note(format_args!(
-            "warning: --wave-vortex acts only where the waves' bed stress exceeds the current's; here the current dominates (--current-speed = {} m/s against waves rubbing the bed like {:.3} m/s), so the vortex is off for this run",
+            "warning: {} act{} on the lee vortex, which acts only where the waves' bed stress exceeds the current's; here the current dominates (--current-speed = {} m/s against waves rubbing the bed like {:.3} m/s), so the vortex is off for this run",
+            asked.join(" and "),
+            if asked.len() == 1 { "s" } else { "" },
             p.current_speed,
             p.wave_stress_amplitude()
         ));

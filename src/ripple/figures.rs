@@ -662,7 +662,7 @@ const VALIDATION_SECONDS: [f64; 2] = [300.0, 1800.0];
 const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
 
 /// Automata per column of the wave-ripple runs: 10 cm of sand (automata of 0.5 mm), so that
-/// the troughs of the vortex ripples (4-8 cm high) stay off the substrate.
+/// the troughs of the vortex ripples (about 4 cm high) stay off the substrate.
 const VALIDATION_WAVE_LAYERS: usize = 200;
 
 /// One case of the validation study: current ripples of a grain size, wave ripples of an
@@ -715,7 +715,7 @@ impl ValidationCase {
     /// The run's parameters (before the step duration sets steps and wave period): the
     /// figure scene on 192 x 48 bins of 5 mm (96 x 24 cm) along the flow, 128 x 128 bins
     /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
-    /// section along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
+    /// narrow strip along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
     /// long-crested), with 200 automata per column, the lee vortex and the command line's
     /// sorting.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
@@ -796,7 +796,7 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 }
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
-/// grain sizes after 300 s and 1800 s of flow, wave ripples (with the lee vortex, on sections
+/// grain sizes after 300 s and 1800 s of flow, wave ripples (with the lee vortex, on narrow strips
 /// with 10 cm of sand) for three orbital diameters after 16,000 s and 32,000 s, and the crest
 /// normal for current angles 0-180 deg after 300 s, 3 seeds each
 /// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).

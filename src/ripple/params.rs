@@ -163,9 +163,9 @@ pub struct RippleParams {
     /// `current_angle`; -360..=360. 3-D only. Default absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wave_angle: Option<f64>,
-    /// The lee vortex of wave ripples (an experiment, `docs/ripple.md`, "Waves"): the orbital
-    /// excursion amplitude `A = U_w T / (2 pi)`, m, of the waves (the command line's
-    /// `--wave-vortex` sets it from the waves given); 0: off. Where the waves dominate, the
+    /// The lee vortex of wave ripples (`docs/ripple.md`, "Waves"): the orbital excursion
+    /// amplitude `A = U_w T / (2 pi)`, m, of the waves (the command line sets it from the waves
+    /// whenever `--wave-period` is given, unless `--no-wave-vortex`); 0: off. Where the waves dominate, the
     /// water's shelter behind a crest reaches no further than the lee vortex has travelled
     /// since the flow last reversed, half the water's travel, `A (1 - cos psi) / 2`
     /// ([`crate::ripple::water::VORTEX_CONVECTION`]), and a grain in that shelter is carried
