@@ -55,8 +55,21 @@ fn parts_run_at_once_gather_to_the_whole_study() {
         assert!(c.wait().unwrap().success());
     }
     let w = whole.display().to_string();
-    let r = cellsurf(&["converge", "dunes", "--quiet", "--out-dir", &w]);
-    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let r = cellsurf(&["converge", "dunes", "--out-dir", &w]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{err}");
+    // progress on the way, ending with every run done
+    let last = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("dunes: "))
+        .filter_map(|l| l.split_once(" runs done"))
+        .next_back()
+        .map(|(counts, _)| counts.to_string());
+    let (done, total) = last
+        .as_deref()
+        .and_then(|c| c.split_once('/'))
+        .unwrap_or_else(|| panic!("no progress line: {err}"));
+    assert_eq!(done, total, "{err}");
     let p = parts.display().to_string();
     // a part missing: refused, naming it
     let moved = base.join("part-2.toml");

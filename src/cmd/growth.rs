@@ -149,10 +149,34 @@ pub struct ConvergeArgs {
     gather: bool,
 }
 
+/// A progress report on stderr (unless `--quiet`) as the runs of `study` finish: at most one
+/// line every 2 seconds, and one for the last run.
+fn run_progress(study: &str) -> impl Fn(cellsurf::engine::study::RunDone) + Sync + '_ {
+    let start = Instant::now();
+    let last = std::sync::Mutex::new(None::<Instant>);
+    move |r| {
+        let Ok(mut last) = last.lock() else {
+            return;
+        };
+        let due = last.is_none_or(|t| t.elapsed().as_secs_f64() >= 2.0);
+        if due || r.done == r.total {
+            *last = Some(Instant::now());
+            conv::note(format_args!(
+                "{study}: {}/{} runs done ({}: {:.1} s; {:.0} s so far)",
+                r.done,
+                r.total,
+                r.run,
+                r.seconds,
+                start.elapsed().as_secs_f64()
+            ));
+        }
+    }
+}
+
 /// `converge STUDY --part i/N` and `--gather` for the studies other than growth
 /// ([`cellsurf::engine::study`]).
 fn converge_parts(a: &ConvergeArgs) -> Result<()> {
-    use cellsurf::engine::study::{PartFile, PartRecord, gather, run_part};
+    use cellsurf::engine::study::{PartFile, PartRecord, gather, run_part_reporting};
     let Some(study) = cellsurf::figures::study(&a.study) else {
         bail!(
             "--part and --gather: `converge {}` is not split into runs (it sweeps step sizes in seconds); run it whole",
@@ -164,7 +188,7 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
     let t = Instant::now();
     if let Some(p) = &a.part {
         let part: cellsurf::engine::part::Part = p.parse()?;
-        let records = run_part(study, part)
+        let records = run_part_reporting(study, part, &run_progress(&a.study))
             .map_err(|e| anyhow::anyhow!("{} study: {e}", a.study))?
             .into_iter()
             .map(|(run, record)| PartRecord { run, record })
@@ -675,7 +699,23 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
             );
         let f = cellsurf::figures::find(&name).with_context(|| format!("no figure {name}"))?;
         let t = Instant::now();
-        for p in cellsurf::figures::make(f, &a.out_dir, true)? {
+        let made = match cellsurf::figures::study(&a.study) {
+            // a study split into runs: the same runs and figure, with progress on the way
+            Some(study) => {
+                let records: Vec<toml::Value> = cellsurf::engine::study::run_part_reporting(
+                    study,
+                    cellsurf::engine::part::Part::WHOLE,
+                    &run_progress(&a.study),
+                )
+                .map_err(|e| anyhow::anyhow!("{} study: {e}", a.study))?
+                .into_iter()
+                .map(|(_, v)| v)
+                .collect();
+                cellsurf::figures::draw_study(study, &records, &a.out_dir)?
+            }
+            None => cellsurf::figures::make(f, &a.out_dir, true)?,
+        };
+        for p in made {
             conv::wrote(&p);
         }
         conv::note(format_args!(

@@ -5,7 +5,8 @@
 //! - [`Study`]: a study as a list of named runs ([`Study::runs`]), one run into a record
 //!   ([`Study::run`], a TOML value: the numbers the figure needs and the run's CPU seconds), and
 //!   the figure drawn from every record in run order ([`Study::draw`]).
-//! - [`run_part`]: the records of a part's runs (every run for `0/1`), in parallel.
+//! - [`run_part`]: the records of a part's runs (every run for `0/1`), in parallel;
+//!   [`run_part_reporting`] also tells a callback of each run as it finishes ([`RunDone`]).
 //! - [`PartFile`]: what a part writes (study, version, part, records); [`gather`] checks that
 //!   part files belong together and cover every run exactly once, and returns the records in
 //!   run order.
@@ -14,6 +15,8 @@
 //! measured run times, are the same whether one process or `N` parts made them.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -46,9 +49,43 @@ pub trait Study: Sync {
 /// The records of part `part` of `study`'s runs (contiguous shares of the run list,
 /// [`Part::range`]), as `(run name, record)`, run in parallel when [`Study::parallel`].
 pub fn run_part(study: &dyn Study, part: Part) -> Result<Vec<(String, toml::Value)>, String> {
+    run_part_reporting(study, part, &|_| {})
+}
+
+/// One finished run of a part, for progress reports ([`run_part_reporting`]).
+#[derive(Clone, Copy, Debug)]
+pub struct RunDone<'a> {
+    /// Runs of the part finished so far, this one included.
+    pub done: usize,
+    /// Runs in the part.
+    pub total: usize,
+    /// This run's name.
+    pub run: &'a str,
+    /// Its wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// As [`run_part`], telling `progress` of every run as it finishes (from the thread that ran
+/// it, in the order they finish). The records are the same, in run order.
+pub fn run_part_reporting(
+    study: &dyn Study,
+    part: Part,
+    progress: &(dyn Fn(RunDone) + Sync),
+) -> Result<Vec<(String, toml::Value)>, String> {
     let runs = study.runs();
     let mine = &runs[part.range(runs.len())];
-    let one = |r: &String| study.run(r).map(|v| (r.clone(), v));
+    let done = AtomicUsize::new(0);
+    let one = |r: &String| {
+        let t = Instant::now();
+        let v = study.run(r)?;
+        progress(RunDone {
+            done: done.fetch_add(1, Ordering::Relaxed) + 1,
+            total: mine.len(),
+            run: r,
+            seconds: t.elapsed().as_secs_f64(),
+        });
+        Ok((r.clone(), v))
+    };
     if study.parallel() {
         mine.par_iter().map(one).collect()
     } else {
