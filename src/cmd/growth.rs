@@ -702,6 +702,8 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         let made = match cellsurf::figures::study(&a.study) {
             // a study split into runs: the same runs and figure, with progress on the way
             Some(study) => {
+                std::fs::create_dir_all(&a.out_dir)
+                    .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
                 let records: Vec<toml::Value> = cellsurf::engine::study::run_part_reporting(
                     study,
                     cellsurf::engine::part::Part::WHOLE,
