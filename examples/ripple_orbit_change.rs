@@ -49,11 +49,35 @@ fn report(phase: &str, r: &Ripple, seconds: f64) {
     );
 }
 
+/// Argument `i` of `a` (named `name`), `default` when absent; a value that does not parse, or
+/// a length or duration that is not above 0, ends the program with a message naming it.
+fn arg<T: std::str::FromStr + PartialOrd + Default + Copy>(
+    a: &[String],
+    i: usize,
+    name: &str,
+    default: T,
+) -> T {
+    let Some(s) = a.get(i) else {
+        return default;
+    };
+    match s.parse::<T>() {
+        Ok(v) if v > T::default() => v,
+        _ => {
+            eprintln!(
+                "error: {name} = {s} is out of range: expected a number above 0 (usage: D0A SECONDS_A D0B SECONDS_B SEED)"
+            );
+            std::process::exit(2);
+        }
+    }
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    let num = |i: usize, d: f64| a.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
-    let (d0a, ta, d0b, tb) = (num(0, 0.4), num(1, 32000.0), num(2, 0.2), num(3, 32000.0));
-    let seed = num(4, 1.0) as u64;
+    let d0a = arg(&a, 0, "D0A", 0.4);
+    let ta = arg(&a, 1, "SECONDS_A", 32000.0);
+    let d0b = arg(&a, 2, "D0B", 0.2);
+    let tb = arg(&a, 3, "SECONDS_B", 32000.0);
+    let seed: u64 = arg(&a, 4, "SEED", 1);
     let (pa, dta) = strip(d0a, seed);
     let mut r = Ripple::new(&pa).expect("valid parameters");
     r.run((ta / dta).round() as u64, |_| {});

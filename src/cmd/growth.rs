@@ -173,10 +173,24 @@ fn run_progress(study: &str) -> impl Fn(cellsurf::engine::study::RunDone) + Sync
     }
 }
 
+/// The records of part `part` of `study` (named `name` on the command line), with progress on
+/// stderr, into `out_dir` (created if missing).
+fn study_records(
+    study: &dyn cellsurf::engine::study::Study,
+    name: &str,
+    part: cellsurf::engine::part::Part,
+    out_dir: &Path,
+) -> Result<Vec<(String, toml::Value)>> {
+    std::fs::create_dir_all(out_dir)
+        .with_context(|| format!("cannot create --out-dir {}", out_dir.display()))?;
+    cellsurf::engine::study::run_part_reporting(study, part, &run_progress(name))
+        .map_err(|e| anyhow::anyhow!("{name} study: {e}"))
+}
+
 /// `converge STUDY --part i/N` and `--gather` for the studies other than growth
 /// ([`cellsurf::engine::study`]).
 fn converge_parts(a: &ConvergeArgs) -> Result<()> {
-    use cellsurf::engine::study::{PartFile, PartRecord, gather, run_part_reporting};
+    use cellsurf::engine::study::{PartFile, PartRecord, gather};
     let Some(study) = cellsurf::figures::study(&a.study) else {
         bail!(
             "--part and --gather: `converge {}` is not split into runs (it sweeps step sizes in seconds); run it whole",
@@ -188,8 +202,7 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
     let t = Instant::now();
     if let Some(p) = &a.part {
         let part: cellsurf::engine::part::Part = p.parse()?;
-        let records = run_part_reporting(study, part, &run_progress(&a.study))
-            .map_err(|e| anyhow::anyhow!("{} study: {e}", a.study))?
+        let records = study_records(study, &a.study, part, &a.out_dir)?
             .into_iter()
             .map(|(run, record)| PartRecord { run, record })
             .collect();
@@ -702,14 +715,12 @@ pub fn converge(a: ConvergeArgs) -> Result<()> {
         let made = match cellsurf::figures::study(&a.study) {
             // a study split into runs: the same runs and figure, with progress on the way
             Some(study) => {
-                std::fs::create_dir_all(&a.out_dir)
-                    .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
-                let records: Vec<toml::Value> = cellsurf::engine::study::run_part_reporting(
+                let records: Vec<toml::Value> = study_records(
                     study,
+                    &a.study,
                     cellsurf::engine::part::Part::WHOLE,
-                    &run_progress(&a.study),
-                )
-                .map_err(|e| anyhow::anyhow!("{} study: {e}", a.study))?
+                    &a.out_dir,
+                )?
                 .into_iter()
                 .map(|(_, v)| v)
                 .collect();

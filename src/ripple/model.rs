@@ -315,6 +315,7 @@ impl Ripple {
     pub fn bare_fraction(&self) -> f64 {
         self.bare_columns() as f64 / self.vol.columns().max(1) as f64
     }
+
     /// Number of bare columns (see [`Ripple::bare_fraction`]).
     pub fn bare_columns(&self) -> usize {
         self.vol.heights().iter().filter(|&&v| v == 0).count()
