@@ -74,11 +74,13 @@ pub struct Args {
     /// bedload (--json reports `step_duration_s`).
     #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, conflicts_with = "steps", allow_hyphen_values = true)]
     duration: Option<f64>,
-    /// Stop early once the field is mature: `equilibrium` (wavelength and height change by
-    /// less than 10 % between t and 2t, checked at 1000 steps and its doublings); --steps or
-    /// --duration is the cap. Recorded as `until` in the parameters, with the step and reason
-    /// of the stop in the output. A field that pauses while it coarsens can pass the test
-    /// early (docs/ripple.md "Until equilibrium"): check maturity on a longer run.
+    /// Stop early once the field is mature: `equilibrium` (wavelength and height each change
+    /// by less than 10 % over two successive doublings of the time, t to 2t and 2t to 4t,
+    /// checked at 1000 steps and its doublings, so the earliest stop is at 4000 steps);
+    /// --steps or --duration is the cap. Recorded as `until` in the parameters, with the step
+    /// and reason of the stop in the output. A field that pauses for long while it coarsens
+    /// can still pass the test (docs/ripple.md "Until equilibrium"): check maturity on a
+    /// longer run.
     #[arg(long, value_name = "WHEN", value_parser = ["equilibrium"])]
     until: Option<String>,
     /// Fraction of automata triggered per step, above 0 and at most 1 [default: 0.001].

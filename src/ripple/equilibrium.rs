@@ -1,13 +1,16 @@
 //! Running a ripple field until it is mature: [`run_until_mature`] measures the field
-//! ([`Analysis`]) at doubling checkpoints and stops when both its wavelength and its height
-//! changed by less than [`TOLERANCE`] between the previous checkpoint `t` and this one `2 t`
-//! ([`mature`]), or at a cap.
+//! ([`Analysis`]) at doubling checkpoints and stops when its wavelength and its height changed
+//! by less than [`TOLERANCE`] over [`PAIRS`] successive doublings (from `t` to `2 t` and from
+//! `2 t` to `4 t`: [`mature`] for each pair, [`Judge`] for the sequence), or at a cap.
 //!
-//! The checkpoints are [`FIRST_CHECK`] steps and its doublings: a field is judged between `t`
-//! and `2 t` for `t >= FIRST_CHECK`. Only a field that has grown counts: its height must be at
-//! least [`GROWN`] times the initial bed's (a bed that stays at its initial roughness has not
-//! formed ripples yet, and coarse sand may need far longer to start), so a bed that never
-//! forms ripples runs to the cap.
+//! The checkpoints are [`FIRST_CHECK`] steps and its doublings (and the cap, which is judged
+//! only where it is a doubling). Two doublings, not one, because fields pause while they
+//! coarsen: a field can change by less than 10 % between `t` and `2 t` and then grow again
+//! (wave ripples without their lee vortex: 16.0 cm at 32,000 and 64,000 steps, 42.7 cm two
+//! hours later). Only a field that has grown counts: its height must be at least [`GROWN`]
+//! times the initial bed's (a bed that stays at its initial roughness has not formed ripples
+//! yet, and coarse sand may need far longer to start), so a bed that never forms ripples runs
+//! to the cap.
 //!
 //! Only a field with sand under all its troughs counts: once a trough has reached the
 //! non-erodible substrate ([`Ripple::bare_fraction`] above zero at a checkpoint) the ripples
@@ -30,17 +33,8 @@ pub const FIRST_CHECK: u64 = 1000;
 /// How many times the initial bed's height a field must reach to count as formed.
 pub const GROWN: f64 = 2.0;
 
-/// Whether the field went from `before` (at `t`) to `after` (at `2 t`) changing its wavelength
-/// and its height by less than [`TOLERANCE`] of their values at `t`, with a height at least
-/// [`GROWN`] times `initial_height` (the bed's at step 0). False when either is not finite or
-/// not positive: no ripples measured.
-pub fn mature(initial_height: f64, before: &Analysis, after: &Analysis) -> bool {
-    let close =
-        |a: f64, b: f64| a.is_finite() && b.is_finite() && a > 0.0 && (b - a).abs() < TOLERANCE * a;
-    close(before.wavelength_m, after.wavelength_m)
-        && close(before.height_m, after.height_m)
-        && after.height_m >= GROWN * initial_height
-}
+/// How many successive doublings (pairs of checkpoints `t`, `2 t`) must each pass [`mature`].
+pub const PAIRS: usize = 2;
 
 /// The field measured at a checkpoint of [`run_until_mature`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +47,54 @@ pub struct Checkpoint {
     pub height_m: f64,
     /// Share of the columns down to the substrate ([`Ripple::bare_fraction`]), in [0, 1].
     pub bare_fraction: f64,
+}
+
+/// Whether the field went from `before` (at `t`) to `after` (at `2 t`) changing its wavelength
+/// and its height by less than [`TOLERANCE`] of their values at `t`, with a height at least
+/// [`GROWN`] times `initial_height` (the bed's at step 0). False when either is not finite or
+/// not positive: no ripples measured. (The steps and bare fractions are not looked at here:
+/// [`Judge`] does that.)
+pub fn mature(initial_height: f64, before: &Checkpoint, after: &Checkpoint) -> bool {
+    let close =
+        |a: f64, b: f64| a.is_finite() && b.is_finite() && a > 0.0 && (b - a).abs() < TOLERANCE * a;
+    close(before.wavelength_m, after.wavelength_m)
+        && close(before.height_m, after.height_m)
+        && after.height_m >= GROWN * initial_height
+}
+
+/// The maturity test of [`run_until_mature`], fed one checkpoint at a time: a field is mature
+/// at the checkpoint that ends [`PAIRS`] successive pairs `(t, 2 t)` each passing [`mature`],
+/// with no bare column at any checkpoint so far.
+#[derive(Clone, Debug)]
+pub struct Judge {
+    initial_height: f64,
+    last: Option<Checkpoint>,
+    passed: usize,
+    substrate: bool,
+}
+
+impl Judge {
+    /// A test for a field whose bed was `initial_height` (m) high at step 0.
+    pub fn new(initial_height: f64) -> Self {
+        Judge {
+            initial_height,
+            last: None,
+            passed: 0,
+            substrate: false,
+        }
+    }
+
+    /// The field at the next checkpoint; true when the field is mature there. A pair whose
+    /// second checkpoint is not at twice the first's step (a cap) counts as failed.
+    pub fn mature_at(&mut self, c: &Checkpoint) -> bool {
+        self.substrate |= c.bare_fraction > 0.0;
+        let pass = self.last.as_ref().is_some_and(|b| {
+            !self.substrate && c.step == 2 * b.step && mature(self.initial_height, b, c)
+        });
+        self.passed = if pass { self.passed + 1 } else { 0 };
+        self.last = Some(*c);
+        self.passed >= PAIRS
+    }
 }
 
 /// What [`run_until_mature`] did.
@@ -70,9 +112,9 @@ pub struct MatureRun {
     pub substrate_at: Option<u64>,
 }
 
-/// Runs `r` until it is mature ([`mature`] between checkpoints `t` and `2 t`, with no bare
-/// column at any checkpoint so far) or `cap` steps, keeping the elevation at each of `times`
-/// reached; `progress(done)` after each step.
+/// Runs `r` until it is mature ([`Judge`]: [`PAIRS`] successive doublings each passing
+/// [`mature`], with no bare column at any checkpoint so far) or `cap` steps, keeping the
+/// elevation at each of `times` reached; `progress(done)` after each step.
 pub fn run_until_mature(
     r: &mut Ripple,
     cap: u64,
@@ -83,10 +125,9 @@ pub fn run_until_mature(
     let mut checkpoints = Vec::new();
     let mut done = 0u64;
     let mut next = FIRST_CHECK.min(cap);
-    let mut last: Option<Analysis> = None;
     let mut mature_at = None;
     let mut substrate_at = None;
-    let initial_height = Analysis::of(r).height_m;
+    let mut judge = Judge::new(Analysis::of(r).height_m);
     while done < cap {
         let n = next - done;
         let rel: Vec<u64> = times
@@ -100,26 +141,20 @@ pub fn run_until_mature(
         }
         done = next;
         let a = Analysis::of(r);
-        let bare = r.bare_fraction();
-        checkpoints.push(Checkpoint {
+        let c = Checkpoint {
             step: done,
             wavelength_m: a.wavelength_m,
             height_m: a.height_m,
-            bare_fraction: bare,
-        });
-        if bare > 0.0 && substrate_at.is_none() {
+            bare_fraction: r.bare_fraction(),
+        };
+        checkpoints.push(c);
+        if c.bare_fraction > 0.0 && substrate_at.is_none() {
             substrate_at = Some(done);
         }
-        // (no bare column so far: neither this checkpoint nor the one before)
-        if let Some(b) = &last
-            && done >= 2 * FIRST_CHECK
-            && substrate_at.is_none()
-            && mature(initial_height, b, &a)
-        {
+        if judge.mature_at(&c) {
             mature_at = Some(done);
             break;
         }
-        last = Some(a);
         next = (2 * done).min(cap);
     }
     if snapshots.last().is_none_or(|s| s.0 != r.time()) {
@@ -138,20 +173,62 @@ pub fn run_until_mature(
 mod tests {
     use super::*;
 
-    fn field(wavelength_m: f64, height_m: f64) -> Analysis {
-        Analysis {
+    fn field(wavelength_m: f64, height_m: f64) -> Checkpoint {
+        Checkpoint {
+            step: 1000,
             wavelength_m,
             height_m,
-            crest_normal_deg: 0.0,
-            ripple_index: wavelength_m / height_m,
-            lee_slope_deg: 0.0,
-            stoss_slope_deg: 0.0,
-            symmetry_index: 1.0,
-            faces: 0,
-            single_bedform: false,
-            d50_crest_mm: 0.2,
-            d50_trough_mm: 0.2,
+            bare_fraction: 0.0,
         }
+    }
+
+    /// Checkpoints at 1000 steps and its doublings, with these wavelengths and heights.
+    fn run_of(fields: &[(f64, f64)]) -> Vec<Checkpoint> {
+        fields
+            .iter()
+            .enumerate()
+            .map(|(i, &(w, h))| Checkpoint {
+                step: FIRST_CHECK << i,
+                wavelength_m: w,
+                height_m: h,
+                bare_fraction: 0.0,
+            })
+            .collect()
+    }
+
+    /// The checkpoint (index) at which a [`Judge`] declares the run mature.
+    fn judged(h0: f64, cps: &[Checkpoint]) -> Option<usize> {
+        let mut j = Judge::new(h0);
+        cps.iter().position(|c| j.mature_at(c))
+    }
+
+    #[test]
+    fn mature_over_two_successive_doublings_not_at_a_pause() {
+        let h0 = 0.002;
+        // a pause (1.00 -> 1.05), growth again (+30 %), then two quiet doublings
+        let cps = run_of(&[
+            (0.10, 0.010),
+            (0.105, 0.0102),
+            (0.14, 0.014),
+            (0.145, 0.0145),
+            (0.15, 0.015),
+            (0.15, 0.015),
+        ]);
+        assert_eq!(judged(h0, &cps), Some(4), "{cps:?}");
+        // one quiet doubling alone is a pause, not maturity
+        assert_eq!(judged(h0, &cps[..4]), None);
+        // a pair that is not a doubling (a cap at 1.5 t) does not count
+        let mut capped = cps[..4].to_vec();
+        capped.push(Checkpoint {
+            step: 12_000,
+            ..cps[4]
+        });
+        assert_eq!(judged(h0, &capped), None);
+        // bare columns at any checkpoint: never mature from then on, even covered again
+        let mut bare = cps.clone();
+        bare[2].bare_fraction = 0.01;
+        assert_eq!(judged(h0, &bare), None);
+        assert_eq!(PAIRS, 2);
     }
 
     #[test]
@@ -207,15 +284,14 @@ mod tests {
         // ... although wavelength and height alone pass the test between two checkpoints,
         // both with bare troughs
         let stalled = cps.windows(2).any(|w| {
-            let f = |c: &Checkpoint| field(c.wavelength_m, c.height_m);
-            w[0].bare_fraction > 0.0 && w[1].bare_fraction > 0.0 && mature(h0, &f(&w[0]), &f(&w[1]))
+            w[0].bare_fraction > 0.0 && w[1].bare_fraction > 0.0 && mature(h0, &w[0], &w[1])
         });
         assert!(stalled, "{cps:?}");
         assert_eq!(r.mass_change(), 0);
     }
 
     #[test]
-    fn a_field_that_keeps_coarsening_runs_to_the_cap() {
+    fn a_run_of_fewer_than_two_doublings_runs_to_the_cap() {
         use crate::ripple::RippleParams;
         let p = RippleParams {
             nx: 24,
@@ -225,13 +301,11 @@ mod tests {
         };
         let mut r = Ripple::new(&p).unwrap();
         let m = run_until_mature(&mut r, 2500, &[0, 2500], |_| {});
-        // checkpoints 1000, 2000 and the cap
+        // checkpoints 1000, 2000 and the cap: one doubling, and the cap's pair is no doubling,
+        // so the field cannot be declared mature
         let steps: Vec<u64> = m.checkpoints.iter().map(|c| c.step).collect();
-        assert_eq!(steps[..2], [1000, 2000]);
-        match m.mature_at {
-            Some(t) => assert!(t >= 2000 && steps.contains(&t)),
-            None => assert_eq!(*steps.last().unwrap(), 2500),
-        }
+        assert_eq!(steps, [1000, 2000, 2500]);
+        assert_eq!(m.mature_at, None);
         assert_eq!(m.snapshots.first().unwrap().0, 0);
         assert_eq!(m.snapshots.last().unwrap().0, r.time());
         assert_eq!(r.mass_change(), 0);

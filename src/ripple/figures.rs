@@ -658,7 +658,7 @@ const VALIDATION_SECONDS: [f64; 2] = [300.0, 1800.0];
 
 /// Simulated seconds of the wave-ripple runs (4.4 and 8.9 hours of waves: the lee vortex's
 /// fields take hours to stop growing); the second is twice the first, for the test of
-/// maturity (wavelength and height within 10 % between t and 2t).
+/// maturity between the two (wavelength and height within 10 % between t and 2t).
 const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
 
 /// Automata per column of the wave-ripple runs: 10 cm of sand (automata of 0.5 mm), so that
