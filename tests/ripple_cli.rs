@@ -221,11 +221,22 @@ fn duration_and_until_equilibrium() {
     let bad = run(&["--duration", "2 weeks"]);
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && err.contains("--duration"), "{err}");
+    // a cap shorter than two doublings: warned, run to the cap untested
+    let o = run(&["--until", "equilibrium", "--steps", "3000"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && err.contains("--until equilibrium cannot stop a run of 3000 steps"),
+        "{err}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["equilibrium"], false);
+    assert_eq!(v["steps"], 3000);
     // until equilibrium, capped at 64,000 steps: this 12 cm field reaches the domain's length
     // by 8,000 steps, and its height then settles; it stops at the first checkpoint that ends
     // two successive doublings each changing wavelength and height by under 10 %
     let o = run(&["--until", "equilibrium", "--steps", "64000"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !err.contains("cannot stop"), "{err}");
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["equilibrium"], true, "{v}");
     let checkpoints = v["checkpoints"].as_array().unwrap();

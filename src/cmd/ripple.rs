@@ -15,7 +15,7 @@ use cellsurf::ripple::output::{run_recording, write_netcdf_with, write_npy_with}
 
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
-use cellsurf::ripple::equilibrium::run_until_mature;
+use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
@@ -755,6 +755,14 @@ pub fn run(a: Args) -> Result<()> {
     } else {
         asked_steps
     };
+    if let (Some(c), Some(_)) = (&clock, &p.until)
+        && cap < EARLIEST_STOP
+    {
+        conv::note(format_args!(
+            "warning: --until equilibrium cannot stop a run of {cap} steps: its test needs the checkpoints at 1000, 2000 and {EARLIEST_STOP} steps (two doublings), so this run goes to its cap untested; give --steps {EARLIEST_STOP} or more (or --duration {:.0}s or more here)",
+            (EARLIEST_STOP as f64 * c.step_s).ceil()
+        ));
+    }
     if let Some(&t) = times.iter().find(|&&t| t > cap) {
         bail!(
             "snapshots = {t} is out of range: expected steps in [0, steps = {}]",

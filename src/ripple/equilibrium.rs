@@ -36,6 +36,10 @@ pub const GROWN: f64 = 2.0;
 /// How many successive doublings (pairs of checkpoints `t`, `2 t`) must each pass [`mature`].
 pub const PAIRS: usize = 2;
 
+/// The first step at which [`run_until_mature`] can find a field mature: the checkpoint that
+/// ends [`PAIRS`] doublings after [`FIRST_CHECK`] (4000 steps).
+pub const EARLIEST_STOP: u64 = FIRST_CHECK << PAIRS;
+
 /// The field measured at a checkpoint of [`run_until_mature`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Checkpoint {
@@ -215,6 +219,10 @@ mod tests {
             (0.15, 0.015),
         ]);
         assert_eq!(judged(h0, &cps), Some(4), "{cps:?}");
+        // a field quiet from the start stops at the earliest checkpoint it can
+        let still = run_of(&[(0.1, 0.01); 4]);
+        assert_eq!(judged(h0, &still), Some(2));
+        assert_eq!(still[2].step, EARLIEST_STOP);
         // one quiet doubling alone is a pause, not maturity
         assert_eq!(judged(h0, &cps[..4]), None);
         // a pair that is not a doubling (a cap at 1.5 t) does not count
