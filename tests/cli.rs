@@ -222,3 +222,54 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
     assert!(!out.status.success());
     std::fs::remove_dir_all(dir.parent().unwrap()).ok();
 }
+
+/// A flag the run does not use is warned about, naming the flag and why; the run still
+/// succeeds, and the same run without the flag has no such warning.
+#[test]
+fn flags_without_effect_are_warned() {
+    let warned = |args: &[&str]| {
+        let out = cellsurf(args);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let ca = warned(&[
+        "ca", "--size", "16x16", "--steps", "5", "--n", "3", "--weight", "axes", "--start", "4",
+    ]);
+    assert!(ca.contains("warning: --n = 3 has no effect"), "{ca}");
+    assert!(
+        ca.contains("warning: --weight = axes has no effect"),
+        "{ca}"
+    );
+    assert!(
+        ca.contains("warning: --start = 4 has no effect with --shape point"),
+        "{ca}"
+    );
+    let flame = warned(&[
+        "flame",
+        "--size",
+        "64x64",
+        "--steps",
+        "5",
+        "--ca-rule",
+        "1,2",
+    ]);
+    assert!(
+        flame.contains("warning: --ca-rule has no effect with --sampler exact"),
+        "{flame}"
+    );
+    // The same flags where they act: no warning.
+    for args in [
+        &[
+            "flame", "--size", "64x64", "--steps", "5", "--n", "3", "--weight", "axes", "--start",
+            "4",
+        ][..],
+        &["ca", "--size", "16x16", "--steps", "5", "--ca-rule", "1,2"][..],
+    ] {
+        let e = warned(args);
+        assert!(!e.contains("has no effect"), "{args:?}: {e}");
+    }
+}

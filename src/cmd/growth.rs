@@ -471,6 +471,49 @@ impl RunHooks for CliHooks {
     }
 }
 
+/// The flags given on the command line that this run does not use, each with why: the
+/// deterministic CA has no sticking law (`--n`, `--weight`), the stochastic samplers have no
+/// CA rule (`--ca-rule`), and a point seed has no size (`--start`).
+fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs) -> Vec<String> {
+    let mut out = Vec::new();
+    let flag = |id: &str, long: &str| conv::typed_flag(id).unwrap_or_else(|| long.into());
+    if cfg.sampler == SamplerKind::Ca {
+        if a.n.is_some() {
+            out.push(format!(
+                "{} = {} has no effect: the deterministic CA (--sampler ca) occupies every site \
+                 with at least --ca-rule occupied neighbours, with no sticking probability",
+                flag("n", "--n"),
+                cfg.n
+            ));
+        }
+        if a.weight.is_some() {
+            out.push(format!(
+                "{} = {} has no effect: the deterministic CA (--sampler ca) has no site weights",
+                flag("weight", "--weight"),
+                match cfg.weight {
+                    WeightKind::None => "none",
+                    WeightKind::Axes => "axes",
+                }
+            ));
+        }
+    } else if a.ca_rule.is_some() {
+        out.push(format!(
+            "{} has no effect with --sampler {}: it is the deterministic CA's rule \
+             (--sampler ca)",
+            flag("ca_rule", "--ca-rule"),
+            cfg.sampler
+        ));
+    }
+    if cfg.shape == Shape::Point && a.start.is_some() {
+        out.push(format!(
+            "{} = {} has no effect with --shape point: a point seed is one cell",
+            flag("start", "--start"),
+            cfg.start
+        ));
+    }
+    out
+}
+
 pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     conv::synonyms(&[
         ("width", "size"),
@@ -480,6 +523,9 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     ]);
     conv::set_quiet(a.quiet);
     let cfg = config(scene, &a)?;
+    for w in flags_without_effect(&cfg, &a) {
+        conv::note(format_args!("warning: {w}"));
+    }
     let scene = cfg.scene;
     if a.print_scenario {
         out!("{}", cfg.to_toml())?;
