@@ -8,7 +8,7 @@
 //!
 //! Each command runs through `sh` in a fresh folder that holds the repository's `scenarios/`
 //! and `tests/fixtures/`, with the test build of `cellsurf` first on the `PATH`, and must exit
-//! with status 0 within [`LIMIT`]. The docs must also stay within the repository: no link or
+//! with status 0 within [`LIMIT`], warning of no flag that has no effect. The docs must also stay within the repository: no link or
 //! path into a folder outside it.
 
 use std::path::{Path, PathBuf};
@@ -185,10 +185,15 @@ fn run(cmd: &DocCommand, dir: &Path, path_env: &str) -> Result<f64, String> {
         }
     }
     let out = child.wait_with_output().map_err(|e| e.to_string())?;
-    if out.status.success() {
+    let err = String::from_utf8_lossy(&out.stderr);
+    if out.status.success()
+        && let Some(w) = err.lines().find(|l| l.contains(" no effect"))
+    {
+        // A documented example teaches its flags: each must act.
+        Err(format!("a flag shown has no effect:\n    {w}"))
+    } else if out.status.success() {
         Ok(t.elapsed().as_secs_f64())
     } else {
-        let err = String::from_utf8_lossy(&out.stderr);
         let tail: String = err
             .lines()
             .rev()

@@ -20,6 +20,16 @@ fn assert_refused(extra: &[&str], o: &std::process::Output, flag: &str, why: &st
     assert!(err.contains(flag) && err.contains(why), "{extra:?}: {err}");
 }
 
+/// Waves alone (no current), with the period in seconds: they dominate, and get the lee vortex.
+const WAVES: [&str; 6] = [
+    "--current-speed",
+    "0",
+    "--wave-velocity",
+    "0.4",
+    "--wave-period",
+    "2s",
+];
+
 const SMALL: &[&str] = &[
     "ripple", "--size", "24x12", "--layers", "10", "--steps", "40", "--seed", "3",
 ];
@@ -593,14 +603,7 @@ fn surface_waves_by_linear_theory_and_bad_wave_input() {
 #[test]
 fn wave_vortex_flags_and_bad_input() {
     let run = |extra: &[&str]| cellsurf(&[SMALL, extra].concat());
-    let waves = [
-        "--current-speed",
-        "0",
-        "--wave-velocity",
-        "0.4",
-        "--wave-period",
-        "2s",
-    ];
+    let waves = WAVES;
     for (extra, flag, why) in [
         (&["--wave-vortex"][..], "--wave-vortex", "--wave-period"),
         (
@@ -906,4 +909,54 @@ fn flow_frame_turns_the_lattice_with_the_current() {
     };
     assert_eq!(two_d("flow"), two_d("grid"));
     assert_eq!(two_d("flow").2, 0.0);
+}
+
+/// Flags the run does not use are warned about, naming the flag and why, and the run goes on:
+/// the volume's options without a volume output, and the stoss cap where the waves dominate.
+/// Where they act (with `--out`; under a current) there is no such warning.
+#[test]
+fn flags_without_effect_are_warned() {
+    let stderr = |extra: &[&str]| {
+        let mut args = SMALL.to_vec();
+        args.extend_from_slice(extra);
+        args.push("--json");
+        let o = cellsurf(&args);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{extra:?}: {err}");
+        err
+    };
+    let e = stderr(&["--snapshots", "20,40", "--fields", "grain_size"]);
+    assert!(
+        e.contains("warning: --fields and --snapshots have no effect without a volume output"),
+        "{e}"
+    );
+    let e = stderr(&["--acoustics", "apl-uw"]);
+    assert!(
+        e.contains("warning: --acoustics has no effect without a volume output"),
+        "{e}"
+    );
+    let waves = WAVES;
+    let mut w = waves.to_vec();
+    w.extend(["--stoss-angle", "5"]);
+    let e = stderr(&w);
+    assert!(
+        e.contains("warning: --stoss-angle = 5 deg has no effect here"),
+        "{e}"
+    );
+    let out = tmp("flags.nc");
+    let out = out.to_str().unwrap();
+    for extra in [
+        &[
+            "--snapshots",
+            "20,40",
+            "--fields",
+            "grain_size",
+            "--out",
+            out,
+        ][..],
+        &["--stoss-angle", "5"][..],
+    ] {
+        let e = stderr(extra);
+        assert!(!e.contains("no effect"), "{extra:?}: {e}");
+    }
 }

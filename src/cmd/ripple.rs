@@ -399,6 +399,13 @@ fn params(a: &Args) -> Result<RippleParams> {
             p.wave_stress_amplitude()
         ));
     }
+    if let Some(beta) = a.stoss_angle.filter(|_| p.waves_dominate()) {
+        conv::note(format_args!(
+            "warning: --stoss-angle = {beta} deg has no effect here: the stoss cap acts only where the current's bed stress exceeds the waves' (under waves each face is the stoss for half a cycle); here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s)",
+            p.wave_stress_amplitude(),
+            p.current_speed
+        ));
+    }
     if p.lattice_slope_deg() > p.avalanche_angle {
         bail!(
             "--layer-thickness = {} m is out of range for --bin-size = {} m and --avalanche-angle = {} deg: one automaton over one bin is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold; expected --layer-thickness at most --bin-size x tan(--avalanche-angle) = {} m (or a larger --bin-size or --avalanche-angle)",
@@ -601,6 +608,33 @@ pub fn run(a: Args) -> Result<()> {
         Some(&(p, f)) => (Some(p.to_path_buf()), f),
         None => (None, Format::NetCdf),
     };
+    if out.is_none() {
+        let unused: Vec<String> = [
+            ("fields", "--fields", a.fields.is_some()),
+            ("snapshots", "--snapshots", a.snapshots.is_some()),
+            ("acoustics", "--acoustics", a.acoustics.is_some()),
+        ]
+        .into_iter()
+        .filter(|&(_, _, given)| given)
+        .map(|(id, long, _)| conv::typed_flag(id).unwrap_or_else(|| long.into()))
+        .collect();
+        if !unused.is_empty() {
+            conv::note(format_args!(
+                "warning: {} {} no effect without a volume output: {} what --out FILE.nc|.npy|.zarr writes; give --out",
+                match unused.split_last() {
+                    Some((last, [])) => last.clone(),
+                    Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+                    None => String::new(),
+                },
+                if unused.len() == 1 { "has" } else { "have" },
+                if unused.len() == 1 {
+                    "it chooses"
+                } else {
+                    "they choose"
+                }
+            ));
+        }
+    }
     let mut fields: Vec<Field> = match &a.fields {
         Some(f) => f.clone(),
         None => Field::ALL
