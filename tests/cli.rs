@@ -229,47 +229,47 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
 fn flags_without_effect_are_warned() {
     let warned = |args: &[&str]| {
         let out = cellsurf(args);
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stderr).into_owned()
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {err}");
+        err
     };
-    let ca = warned(&[
-        "ca", "--size", "16x16", "--steps", "5", "--n", "3", "--weight", "axes", "--start", "4",
-    ]);
-    assert!(ca.contains("warning: --n = 3 has no effect"), "{ca}");
-    assert!(
-        ca.contains("warning: --weight = axes has no effect"),
-        "{ca}"
-    );
-    assert!(
-        ca.contains("warning: --start = 4 has no effect with --shape point"),
-        "{ca}"
-    );
-    let flame = warned(&[
-        "flame",
-        "--size",
-        "64x64",
-        "--steps",
-        "5",
-        "--ca-rule",
-        "1,2",
-    ]);
-    assert!(
-        flame.contains("warning: --ca-rule has no effect with --sampler exact"),
-        "{flame}"
-    );
-    // The same flags where they act: no warning.
-    for args in [
-        &[
-            "flame", "--size", "64x64", "--steps", "5", "--n", "3", "--weight", "axes", "--start",
-            "4",
-        ][..],
-        &["ca", "--size", "16x16", "--steps", "5", "--ca-rule", "1,2"][..],
+    let ca_flags = ["--n", "3", "--weight", "axes", "--start", "4"];
+    let ca = warned(&[&["ca", "--size", "16x16", "--steps", "5"][..], &ca_flags].concat());
+    for w in [
+        "warning: --n = 3 has no effect",
+        "warning: --weight = axes has no effect",
+        "warning: --start = 4 has no effect with --shape point",
     ] {
-        let e = warned(args);
+        assert!(ca.contains(w), "{ca}");
+    }
+    let flame = ["flame", "--size", "64x64", "--steps", "5"];
+    let e = warned(&[&flame[..], &["--ca-rule", "1,2"]].concat());
+    assert!(
+        e.contains("warning: --ca-rule has no effect with --sampler exact"),
+        "{e}"
+    );
+    let output_flags = ["--snapshots", "2,5", "--series", "7", "--gif-frames", "3"];
+    let e = warned(&[&flame[..], &output_flags].concat());
+    for w in [".png", ".csv", ".gif"] {
+        assert_eq!(
+            e.matches(&format!("has no effect without a {w} output"))
+                .count(),
+            1,
+            "{e}"
+        );
+    }
+    // The same flags where they act: no warning.
+    let files = [tmp("flags.png"), tmp("flags.csv"), tmp("flags.gif")];
+    let outs: Vec<&str> = files
+        .iter()
+        .flat_map(|f| ["--out", f.to_str().unwrap()])
+        .collect();
+    for args in [
+        [&flame[..], &ca_flags].concat(),
+        ["ca", "--size", "16x16", "--steps", "5", "--ca-rule", "1,2"].to_vec(),
+        [&flame[..], &output_flags, &outs].concat(),
+    ] {
+        let e = warned(&args);
         assert!(!e.contains("has no effect"), "{args:?}: {e}");
     }
 }

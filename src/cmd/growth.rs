@@ -473,10 +473,44 @@ impl RunHooks for CliHooks {
 
 /// The flags given on the command line that this run does not use, each with why: the
 /// deterministic CA has no sticking law (`--n`, `--weight`), the stochastic samplers have no
-/// CA rule (`--ca-rule`), and a point seed has no size (`--start`).
-fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs) -> Vec<String> {
+/// CA rule (`--ca-rule`), a point seed has no size (`--start`), and the options of an output
+/// not asked for choose nothing (`--snapshots` without a `.png`, `--series` without a `.csv`,
+/// `--gif-frames` without a `.gif`).
+fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs, outs: &Outputs) -> Vec<String> {
     let mut out = Vec::new();
     let flag = |id: &str, long: &str| conv::typed_flag(id).unwrap_or_else(|| long.into());
+    for (given, id, long, format, what) in [
+        (
+            a.snapshots.is_some(),
+            "snapshots",
+            "--snapshots",
+            Format::Png,
+            "its panels",
+        ),
+        (
+            a.series.is_some(),
+            "series",
+            "--series",
+            Format::Csv,
+            "its rows",
+        ),
+        (
+            conv::typed("gif_frames"),
+            "gif_frames",
+            "--gif-frames",
+            Format::Gif,
+            "its frames",
+        ),
+    ] {
+        if given && outs.get(format).is_none() {
+            out.push(format!(
+                "{} has no effect without a .{} output ({what}): give --out FILE.{}",
+                flag(id, long),
+                format.ext(),
+                format.ext()
+            ));
+        }
+    }
     if cfg.sampler == SamplerKind::Ca {
         if a.n.is_some() {
             out.push(format!(
@@ -523,9 +557,6 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     ]);
     conv::set_quiet(a.quiet);
     let cfg = config(scene, &a)?;
-    for w in flags_without_effect(&cfg, &a) {
-        conv::note(format_args!("warning: {w}"));
-    }
     let scene = cfg.scene;
     if a.print_scenario {
         out!("{}", cfg.to_toml())?;
@@ -544,6 +575,9 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     )?;
     outs.add_legacy(Format::Csv, a.csv.as_ref())?;
     outs.add_legacy(Format::Gif, a.gif.as_ref())?;
+    for w in flags_without_effect(&cfg, &a, &outs) {
+        conv::note(format_args!("warning: {w}"));
+    }
     let by_events = cfg.events.is_some() || cfg.until_occupied.is_some();
     // A clock-stopped run draws its snapshots only (an event-stopped one its final state too).
     if let Some(p) = outs.get(Format::Png)
