@@ -223,8 +223,8 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
     std::fs::remove_dir_all(dir.parent().unwrap()).ok();
 }
 
-/// A flag the run does not use is warned about, naming the flag and why; the run still
-/// succeeds, and the same run without the flag has no such warning.
+/// A flag the run does not use is warned about, naming the flag and why (growth scenes and
+/// dunes); the run still succeeds, and the same run where the flag acts has no such warning.
 #[test]
 fn flags_without_effect_are_warned() {
     let warned = |args: &[&str]| {
@@ -258,8 +258,15 @@ fn flags_without_effect_are_warned() {
             "{e}"
         );
     }
+    let dunes = ["dunes", "--size", "16", "--steps", "2", "--gif-frames", "3"];
+    let e = warned(&dunes);
+    assert!(
+        e.contains("warning: --gif-frames has no effect without a .gif output"),
+        "{e}"
+    );
     // The same flags where they act: no warning.
     let files = [tmp("flags.png"), tmp("flags.csv"), tmp("flags.gif")];
+    let dunes_gif = tmp("flags-dunes.gif");
     let outs: Vec<&str> = files
         .iter()
         .flat_map(|f| ["--out", f.to_str().unwrap()])
@@ -268,6 +275,7 @@ fn flags_without_effect_are_warned() {
         [&flame[..], &ca_flags].concat(),
         ["ca", "--size", "16x16", "--steps", "5", "--ca-rule", "1,2"].to_vec(),
         [&flame[..], &output_flags, &outs].concat(),
+        [&dunes[..], &["--out", dunes_gif.to_str().unwrap()]].concat(),
     ] {
         let e = warned(&args);
         assert!(!e.contains("has no effect"), "{args:?}: {e}");
