@@ -418,3 +418,21 @@ fn generate_options_need_generate_and_angles_have_the_ripple_range() {
         assert!(err.contains("2^53") || err.contains("2^63"), "{err}");
     }
 }
+
+/// `--blend` cross-fades different tiles at their edges: with one tile (`--choose same`, or a
+/// single tile) it has no effect, and says so, naming the flag; with several tiles and
+/// `--choose patches` it acts, without the warning.
+#[test]
+fn blend_without_effect_is_warned() {
+    let warn = |extra: &[&str]| {
+        let o = cellsurf(&[GEN, extra, &["--blend", "3"]].concat());
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{extra:?}: {err}");
+        err
+    };
+    let one = "warning: --blend = 3 has no effect: the mosaic lays one tile";
+    assert!(warn(&[]).contains(one));
+    assert!(warn(&["--seeds", "1,2"]).contains(one));
+    let e = warn(&["--seeds", "1,2", "--choose", "patches"]);
+    assert!(!e.contains("no effect"), "{e}");
+}

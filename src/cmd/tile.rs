@@ -612,6 +612,17 @@ pub fn run(a: Args) -> Result<()> {
     let tile_angle = tiles[0].current_angle;
     let x_axis = tiles[0].x_axis_deg;
     let current_in_mosaic = a.current_angle.map(|c| c - x_axis).unwrap_or(tile_angle);
+    if a.blend > 0 && (choose == Choose::Same || tiles.len() == 1) {
+        conv::note(format_args!(
+            "warning: --blend = {} has no effect: the mosaic lays one tile ({}), which meets itself at its edges without a seam; give several tiles (--seeds or --tile) with --choose patches",
+            a.blend,
+            if tiles.len() == 1 {
+                "a single tile"
+            } else {
+                "--choose same"
+            }
+        ));
+    }
     let mosaic = Mosaic::new(tiles, mx, my, choose, a.seed, a.blend)?;
     let relief = match a.dune_wavelength {
         Some(wavelength) => Relief::Wavelength {
