@@ -490,6 +490,18 @@ impl Outputs {
             .map(|(_, p)| p.as_path())
     }
 
+    /// Why the option with this id (the field name), given on the command line, has no
+    /// effect: it chooses `what` of the `format` output, and none was asked for.
+    pub fn unused_option(&self, id: &str, format: Format, what: &str) -> Option<String> {
+        (typed(id) && self.get(format).is_none()).then(|| {
+            format!(
+                "{} has no effect without a .{ext} output ({what}): give --out FILE.{ext}",
+                typed_flag(id).unwrap_or_else(|| format!("--{}", id.replace('_', "-"))),
+                ext = format.ext()
+            )
+        })
+    }
+
     /// Adds a file given by an old spelling (`--gif FILE`, `--npy FILE`), if the format has
     /// none yet.
     pub fn add_legacy(&mut self, f: Format, p: Option<&PathBuf>) -> Result<()> {

@@ -195,11 +195,8 @@ pub fn run(a: Args) -> Result<()> {
     }
     let mut outs = Outputs::new(&a.out, "dunes", &[Format::Png, Format::Gif])?;
     outs.add_legacy(Format::Gif, a.gif.as_ref())?;
-    if conv::typed("gif_frames") && outs.get(Format::Gif).is_none() {
-        conv::note(format_args!(
-            "warning: {} has no effect without a .gif output (its frames): give --out FILE.gif",
-            conv::typed_flag("gif_frames").unwrap_or_else(|| "--gif-frames".into())
-        ));
+    if let Some(w) = outs.unused_option("gif_frames", Format::Gif, "its frames") {
+        conv::note(format_args!("warning: {w}"));
     }
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
     let silent = a.quiet || a.json;

@@ -479,37 +479,12 @@ impl RunHooks for CliHooks {
 fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs, outs: &Outputs) -> Vec<String> {
     let mut out = Vec::new();
     let flag = |id: &str, long: &str| conv::typed_flag(id).unwrap_or_else(|| long.into());
-    for (given, id, long, format, what) in [
-        (
-            a.snapshots.is_some(),
-            "snapshots",
-            "--snapshots",
-            Format::Png,
-            "its panels",
-        ),
-        (
-            a.series.is_some(),
-            "series",
-            "--series",
-            Format::Csv,
-            "its rows",
-        ),
-        (
-            conv::typed("gif_frames"),
-            "gif_frames",
-            "--gif-frames",
-            Format::Gif,
-            "its frames",
-        ),
+    for (id, format, what) in [
+        ("snapshots", Format::Png, "its panels"),
+        ("series", Format::Csv, "its rows"),
+        ("gif_frames", Format::Gif, "its frames"),
     ] {
-        if given && outs.get(format).is_none() {
-            out.push(format!(
-                "{} has no effect without a .{} output ({what}): give --out FILE.{}",
-                flag(id, long),
-                format.ext(),
-                format.ext()
-            ));
-        }
+        out.extend(outs.unused_option(id, format, what));
     }
     if cfg.sampler == SamplerKind::Ca {
         if a.n.is_some() {
