@@ -499,10 +499,7 @@ fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs, outs: &Outputs) -> Vec<
             out.push(format!(
                 "{} = {} has no effect: the deterministic CA (--sampler ca) has no site weights",
                 flag("weight", "--weight"),
-                match cfg.weight {
-                    WeightKind::None => "none",
-                    WeightKind::Axes => "axes",
-                }
+                cfg.weight
             ));
         }
     } else if a.ca_rule.is_some() {

@@ -127,6 +127,16 @@ pub enum WeightKind {
     Axes,
 }
 
+impl fmt::Display for WeightKind {
+    /// The name `--weight` and scenario files take: `none` or `axes`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            WeightKind::None => "none",
+            WeightKind::Axes => "axes",
+        })
+    }
+}
+
 impl FromStr for WeightKind {
     type Err = SceneError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
@@ -1017,6 +1027,13 @@ fn advance(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn weight_names_parse_back() {
+        for w in [WeightKind::None, WeightKind::Axes] {
+            assert_eq!(w.to_string().parse::<WeightKind>(), Ok(w));
+        }
+    }
 
     #[test]
     fn defaults_are_valid() {
