@@ -842,6 +842,72 @@ fn bin_longer_than_half_the_predicted_lee_face_is_warned() {
     }
 }
 
+/// A bin longer than 1/45 of the predicted wave ripple gets a warning naming the bin, that
+/// length and the predicted wavelength, where the waves dominate; a finer bin, or a longer
+/// orbit, gets none.
+#[test]
+fn bin_too_coarse_for_the_predicted_wave_ripple_is_warned() {
+    // stderr of a 10-step wave run over 0.3 mm sand (U_w = 0.4 m/s) on a strip 1 m long,
+    // so that the domain warning does not fire
+    let stderr_of = |bin: f64, (uw, period): (&str, &str), current: &str| {
+        let nx = format!("{}x4", (1.0 / bin).round() as usize);
+        let (b, lt) = (bin.to_string(), (bin / 10.0).to_string());
+        let args = vec![
+            "ripple",
+            "--d50",
+            "0.3",
+            "--current-speed",
+            current,
+            "--wave-velocity",
+            uw,
+            "--wave-period",
+            period,
+            "--layers",
+            "10",
+            "--steps",
+            "10",
+            "--size",
+            &nx,
+            "--bin-size",
+            &b,
+            "--layer-thickness",
+            &lt,
+        ];
+        let o = cellsurf(&args);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    // d0 = 0.2 m: 0.62 d0 = 0.124 m, so bins up to 0.124 / 45 = 0.00276 m
+    let err = stderr_of(0.005, ("0.4", "1.5707963267948966s"), "0");
+    for part in [
+        "--bin-size = 0.005 m",
+        "0.1240 m / 45",
+        "0.00276 m",
+        "Wiberg",
+    ] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    assert!(!err.contains("domain is"), "{err}");
+    for (bin, period) in [
+        (0.0025, "1.5707963267948966s"),
+        (0.005, "3.141592653589793s"),
+    ] {
+        let err = stderr_of(bin, ("0.4", period), "0");
+        assert!(
+            !err.contains("predicted wave ripple"),
+            "{bin} {period}: {err}"
+        );
+    }
+    // where a current dominates the waves (0.5 m/s over waves of d0 = 0.2 m at U_w =
+    // 0.2 m/s), the current's warnings apply, not this one
+    let err = stderr_of(0.005, ("0.2", "3.141592653589793s"), "0.5");
+    assert!(!err.contains("predicted wave ripple"), "{err}");
+    // (the same waves alone are warned)
+    let err = stderr_of(0.005, ("0.2", "3.141592653589793s"), "0");
+    assert!(err.contains("predicted wave ripple"), "{err}");
+}
+
 /// The flow frame (the default) runs the lattice with its x axis along the current: the bed is
 /// the same whatever the current's angle (the lattice no longer pulls the crests towards its
 /// axes and diagonals), the crest normal is reported from east (the lattice's normal plus the
