@@ -16,9 +16,7 @@ use cellsurf::ripple::output::{run_recording, write_netcdf_with, write_npy_with}
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
-use cellsurf::ripple::predictors::{
-    Prediction, WAVE_BINS_PER_WAVELENGTH, largest_resolving_bin, largest_wave_bin, length_along,
-};
+use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -61,8 +59,7 @@ pub struct Args {
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
     #[arg(long)]
     layers: Option<usize>,
-    /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005]. Warned when longer
-    /// than half the predicted ripple's lee face or, where waves dominate, 1/45 of its wavelength.
+    /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
     /// Layer thickness gd, m, above 0 and at most --bin-size x tan(--avalanche-angle) (one
@@ -775,13 +772,6 @@ pub fn run(a: Args) -> Result<()> {
         conv::note(format_args!(
             "warning: --bin-size = {} m is longer than half the lee face of the predicted ripple (H / (2 tan alpha) = {resolving:.4} m for H = {:.4} m, {}, and alpha = {} deg): the slip face and the shadow behind it span fewer than two bins, so the field will depend on the bin; give a smaller --bin-size (and --layer-thickness)",
             p.bin_size, predicted.height, predicted.source, p.avalanche_angle
-        ));
-    }
-    let wave_bin = largest_wave_bin(predicted.wavelength);
-    if reg.regime == Regime::Ripples && p.waves_dominate() && p.bin_size > wave_bin {
-        conv::note(format_args!(
-            "warning: --bin-size = {} m is longer than 1/{WAVE_BINS_PER_WAVELENGTH} of the predicted wave ripple ({:.4} m / {WAVE_BINS_PER_WAVELENGTH} = {wave_bin:.5} m, {}): with fewer bins per wavelength, wave ripples were measured more than 20 % longer than predicted, so the field will depend on the bin; give a smaller --bin-size (and --layer-thickness)",
-            p.bin_size, predicted.wavelength, predicted.source
         ));
     }
     let surface = match (a.wave_height, a.wave_period, a.water_depth) {

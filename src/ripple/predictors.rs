@@ -187,21 +187,6 @@ pub fn largest_resolving_bin(height: f64, alpha_deg: f64) -> f64 {
     height / (2.0 * alpha_deg.to_radians().tan())
 }
 
-/// Bins per predicted wavelength below which wave ripples did not follow Wiberg & Harris's
-/// 0.62 d0 within 20 % (docs/ripple.md, "Finer bins"; 0.3 mm sand, U_w = 0.4 m/s, strips of
-/// at least 8 wavelengths): d0 = 0.2 m gave +148 / +60 / +9 % with 12 / 25 / 50 bins per
-/// 0.62 d0 (bins of 10 / 5 / 2.5 mm), d0 = 0.3 m +23 % with 37 bins, d0 = 0.4 m +1 to +19 %
-/// with 50 bins and +16 % with 100. The threshold lies between the 37 bins that missed and
-/// the 50 that met it.
-pub const WAVE_BINS_PER_WAVELENGTH: f64 = 45.0;
-
-/// The longest bin with which wave ripples of the predicted `wavelength` (m) were measured
-/// to follow their predictor: `wavelength / WAVE_BINS_PER_WAVELENGTH`, m
-/// ([`WAVE_BINS_PER_WAVELENGTH`]).
-pub fn largest_wave_bin(wavelength: f64) -> f64 {
-    wavelength / WAVE_BINS_PER_WAVELENGTH
-}
-
 /// The length of the torus along direction `angle_deg` (degrees from +x) before a straight
 /// line leaves the `lx` x `ly` m rectangle: `min(lx / |cos|, ly / |sin|)`, m.
 pub fn length_along(lx: f64, ly: f64, angle_deg: f64) -> f64 {
@@ -352,27 +337,6 @@ mod tests {
             ..RippleParams::default()
         };
         assert_eq!(rubin_hunter_crest_normal(&still), None);
-    }
-
-    #[test]
-    fn largest_wave_bin_resolves_the_measured_cases() {
-        // 0.62 d0 = 12.4 / 18.6 / 24.8 cm for d0 = 0.2 / 0.3 / 0.4 m (Wiberg & Harris):
-        // the bins that came within 20 % are allowed, those that did not are too long
-        let (l2, l3, l4) = (0.124, 0.186, 0.248);
-        assert!(
-            0.0025 <= largest_wave_bin(l2),
-            "2.5 mm at d0 = 0.2 m met it"
-        );
-        assert!(
-            0.005 > largest_wave_bin(l2),
-            "5 mm at d0 = 0.2 m did not (+60 %)"
-        );
-        assert!(
-            0.005 > largest_wave_bin(l3),
-            "5 mm at d0 = 0.3 m did not (+23 %)"
-        );
-        assert!(0.005 <= largest_wave_bin(l4), "5 mm at d0 = 0.4 m met it");
-        assert!((largest_wave_bin(l4) - l4 / WAVE_BINS_PER_WAVELENGTH).abs() < 1e-15);
     }
 
     #[test]
