@@ -527,6 +527,33 @@ pub fn run(a: Args) -> Result<()> {
         Some(t) => Some(parse_pair::<usize>("chunk-tiles", t, "8x8")?),
         None => None,
     };
+    // What can be checked before the tiles are generated (which may take minutes) is checked
+    // here; the upper bounds, which depend on the tiles' size, once they are known.
+    if let Some((kx, ky)) = chunk_tiles
+        && (kx == 0 || ky == 0)
+    {
+        bail!("--chunk-tiles = {kx}x{ky} is out of range: expected at least 1x1 tiles per chunk");
+    }
+    let mosaic_given = match &a.mosaic {
+        Some(m) => {
+            let (mx, my) = parse_pair::<usize>("mosaic", m, "3x3")?;
+            if mx == 0 || my == 0 {
+                bail!("--mosaic = {mx}x{my} is out of range: expected at least 1x1 tiles");
+            }
+            Some((mx, my))
+        }
+        None => None,
+    };
+    let extent_given = match &a.extent {
+        Some(e) => {
+            let (w, h) = parse_pair::<f64>("extent", e, "1000x1000 (metres)")?;
+            if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
+                bail!("--extent = {e} is out of range: expected positive sizes in metres");
+            }
+            Some((e.as_str(), w, h))
+        }
+        None => None,
+    };
     if !a.dunes {
         for id in [
             "hurst",
@@ -589,13 +616,9 @@ pub fn run(a: Args) -> Result<()> {
     }
     let (tiles, ripple_record) = pool(&a, quiet)?;
     let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);
-    let (mx, my) = match (&a.mosaic, &a.extent) {
-        (Some(m), _) => parse_pair::<usize>("mosaic", m, "3x3")?,
-        (None, Some(e)) => {
-            let (w, h) = parse_pair::<f64>("extent", e, "1000x1000 (metres)")?;
-            if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
-                bail!("--extent = {e} is out of range: expected positive sizes in metres");
-            }
+    let (mx, my) = match (mosaic_given, extent_given) {
+        (Some(m), _) => m,
+        (None, Some((e, w, h))) => {
             let cells = |len: f64, n: usize| (len / (n as f64 * dx) - 1e-9).ceil().max(1.0);
             let (cx, cy) = (cells(w, nx), cells(h, ny));
             if cx > 1e12 || cy > 1e12 {
