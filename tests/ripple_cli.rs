@@ -149,6 +149,38 @@ fn outputs_are_checked_before_the_run() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("--size = 128x5 is out of range"), "{e}");
     assert!(!e.contains("panicked"), "{e}");
+    // `.npy`: the sidecar and each volume field's file are checked too, before the run (a
+    // run long enough to tell: 20,000 steps of 128 x 64 take seconds)
+    for (blocked, fields) in [
+        ("blk.json", "elevation"),
+        ("blk_porosity.npy", "elevation,porosity"),
+    ] {
+        let dir = tmp(blocked);
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = tmp("blk.npy");
+        let t = std::time::Instant::now();
+        let o = cellsurf(&[
+            "ripple",
+            "--size",
+            "128x64",
+            "--steps",
+            "20000",
+            "--fields",
+            fields,
+            "--out",
+            &out.display().to_string(),
+        ]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(e.contains(&format!("its file {}", dir.display())), "{e}");
+        assert!(
+            t.elapsed().as_secs_f64() < 1.0,
+            "refused after the run: {e}"
+        );
+        assert!(!out.exists(), "an output was written");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
 
 /// Soulsby (1997), Sect. 7.2: below the threshold of motion nothing moves, above a Shields
@@ -180,6 +212,20 @@ fn regimes_no_motion_ripples_and_sheet_flow() {
     let side = std::fs::read_to_string(tmp("still.json")).unwrap();
     assert!(side.contains("\"elevation_times\": [0]"), "{side}");
     assert!(String::from_utf8_lossy(&o.stderr).contains("the only snapshot"));
+    // a flow above the threshold that the model's rules cannot move: a stoss angle of 0 lets
+    // no grain rest above the column upstream; the note names the flag that causes it
+    let mut args = SMALL.to_vec();
+    args.extend(["--json", "--stoss-angle", "0"]);
+    let o = cellsurf(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regime"], "no motion");
+    assert!(v["shields"].as_f64().unwrap() > v["shields_critical"].as_f64().unwrap());
+    assert!(
+        err.contains("no motion in the model") && err.contains("--stoss-angle = 0 deg"),
+        "{err}"
+    );
     // ripples, with the Shields number of the law
     let o = run("0.5", None);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();

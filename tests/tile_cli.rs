@@ -127,7 +127,11 @@ fn bad_input_is_named() {
         ),
         (
             &["--dunes", "--dune-grid", "100000"][..],
-            "--dune-grid = 100000 is out of range: expected 2 ..= 72 nodes",
+            "--dune-grid = 100000 is out of range: expected 3 ..= 72 nodes",
+        ),
+        (
+            &["--dunes", "--dune-grid", "2"][..],
+            "--dune-grid = 2 is out of range: expected 3 ..= 72 nodes",
         ),
         (&["--hurst", "0.5"][..], "--dunes"),
         (&["--dune-rms", "0.1"][..], "--dunes"),
@@ -195,6 +199,9 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
         long.contains("plus the dune relief about the mean dune level"),
         "{long}"
     );
+    // the tiles' automaton, not the bin (the generated tiles' 0.5 mm against 5 mm bins)
+    assert_eq!(side["layer_thickness_m"], 0.0005, "{side}");
+    assert_eq!(side["bin_size_m"], 0.005, "{side}");
     // 0.3 m rms on a 0.36 m x 0.18 m surface: far steeper than sand can stand
     a.extend(["--dune-rms", "0.3"]);
     let o = cellsurf(&a);
@@ -237,6 +244,19 @@ fn generate_checks_the_flow_regime_and_the_scenario_model() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success(), "no motion accepted: {err}");
     assert!(err.contains("below the threshold of motion"), "{err}");
+    // above the threshold, but the model's rules move no grain (as `cellsurf ripple` finds):
+    // the tiles would be the starting bed
+    std::fs::write(&sheet, "model = \"ripple\"\nstoss_angle = 0.0\n").unwrap();
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success(),
+        "no motion in the model accepted: {err}"
+    );
+    assert!(
+        err.contains("no motion in the model") && err.contains("stoss_angle = 0 deg"),
+        "{err}"
+    );
     // a scenario of another model is named
     std::fs::write(&sheet, "model = \"dunes\"\n").unwrap();
     let o = cellsurf(&a);
@@ -435,4 +455,27 @@ fn blend_without_effect_is_warned() {
     assert!(warn(&["--seeds", "1,2"]).contains(one));
     let e = warn(&["--seeds", "1,2", "--choose", "patches"]);
     assert!(!e.contains("no effect"), "{e}");
+    assert!(!e.contains("not used"), "{e}");
+    // tiles that --choose same leaves out are named
+    let e = warn(&["--seeds", "1,2,3"]);
+    assert!(
+        e.contains("--choose same lays only the first tile (seed 1")
+            && e.contains("the other 2 (seed 2")
+            && e.contains("are not used"),
+        "{e}"
+    );
+}
+
+#[test]
+fn hurst_without_effect_is_warned() {
+    let run = |extra: &[&str]| {
+        let o = cellsurf(&[GEN, &["--dunes", "--dune-grid", "24"], extra].concat());
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{extra:?}: {err}");
+        err
+    };
+    let e = run(&["--dune-wavelength", "0.1", "--hurst", "0.5"]);
+    assert!(e.contains("warning: --hurst = 0.5 has no effect"), "{e}");
+    assert!(!run(&["--hurst", "0.5"]).contains("has no effect"));
+    assert!(!run(&["--dune-wavelength", "0.1"]).contains("has no effect"));
 }

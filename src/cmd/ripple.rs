@@ -482,6 +482,28 @@ fn clock_of(
     Ok(c.grains_move().then_some(c))
 }
 
+/// Why the model's rules carry no grain on a flat bed although the flow exceeds the threshold
+/// of motion at `speed` (m/s), for a message: a stoss angle of 0 (the stoss cap then lets no
+/// grain rest above the column upstream, so every grain rolls back; `beta_flag` names it), or
+/// a hop too short to pay a bin's cost at this speed.
+pub fn model_stuck_reason(p: &RippleParams, speed: f64, beta_flag: &str) -> String {
+    let (finest, median) = cellsurf::ripple::clock::model_threshold_speeds(p);
+    if p.stoss_angle == 0.0 && !p.waves_dominate() && speed >= finest {
+        format!(
+            "{beta_flag} = 0 deg: the stoss cap lets no grain come to rest above the column \
+             upstream, so on a flat bed every grain rolls back and none moves (the flat-bed \
+             measurement moved none); a stoss angle above 0 deg (default 7) lets grains move"
+        )
+    } else {
+        format!(
+            "the model's rules carry no grain a bin on a flat bed (the flat-bed measurement \
+             moved none): they move the finest grains from {finest:.3} m/s and the median grain \
+             from {median:.3} m/s (--bin-size, --layer-thickness and the hop length set that \
+             threshold)"
+        )
+    }
+}
+
 /// The flag that sets the largest flow speed, and what else adds to it: the waves' (with their
 /// friction factor) where they reach sheet flow on their own or dominate, the current's
 /// otherwise.
@@ -505,10 +527,16 @@ fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
             format!(
                 ", wave friction factor {:.4} {}",
                 p.wave_friction_factor,
-                if a.wave_friction_factor.is_some() {
-                    "from --wave-friction-factor"
-                } else {
-                    "from their orbital excursion, Soulsby Eq. 60a, or set by --wave-friction-factor"
+                match (a.wave_friction_factor, a.wave_period) {
+                    (Some(_), _) => "from --wave-friction-factor".to_string(),
+                    (None, Some(t)) => format!(
+                        "from their orbital excursion U_w T / (2 pi) = {:.3e} m with --wave-period = {t} s \
+                         (Soulsby Eq. 60a; a longer period lowers it), or set by --wave-friction-factor",
+                        p.wave_amplitude * t / (2.0 * std::f64::consts::PI)
+                    ),
+                    (None, None) => "from their orbital excursion, Soulsby Eq. 60a, or set by \
+                                     --wave-friction-factor"
+                        .to_string(),
                 }
             )
         } else {
@@ -670,6 +698,14 @@ pub fn run(a: Args) -> Result<()> {
                 .with_context(|| format!("--out {}", out.display()))?;
         } else {
             cellsurf::engine::io::check_output("--out", out)?;
+            if format == Format::Npy {
+                // the volume fields' files and the JSON sidecar beside NAME.npy
+                let paths = cellsurf::ripple::output::npy_paths(out, &spec);
+                for f in paths.iter().filter(|f| f.as_path() != out.as_path()) {
+                    let opt = format!("--out {}: its file", out.display());
+                    cellsurf::engine::io::check_output(&opt, f)?;
+                }
+            }
         }
     }
 
@@ -716,15 +752,15 @@ pub fn run(a: Args) -> Result<()> {
     // the transport law moves sand but the model's grains do not move on a flat bed
     let stuck = reg.regime != Regime::NoMotion && clock.is_none();
     if stuck {
-        let (finest, median) = cellsurf::ripple::clock::model_threshold_speeds(&p);
         conv::note(format_args!(
-            "no motion in the model: {}{} gives the flow's largest speed of {:.3} m/s, above the threshold of motion ({lo:.3} m/s), but the model's rules carry no grain a bin on a flat bed (the flat-bed measurement moved none): they move the finest grains from {finest:.3} m/s and the median grain from {median:.3} m/s (--bin-size, --layer-thickness and the hop length set that threshold); the bed is left as it is",
+            "no motion in the model: {}{} gives the flow's largest speed of {:.3} m/s, above the threshold of motion ({lo:.3} m/s), but {}; the bed is left as it is",
             flow_cause(&a, &p).0,
             match flow_cause(&a, &p).1 {
                 d if d.is_empty() => d,
                 d => format!(" ({d})"),
             },
-            reg.speed
+            reg.speed,
+            model_stuck_reason(&p, reg.speed, "--stoss-angle")
         ));
     }
     let regime_name = if stuck {

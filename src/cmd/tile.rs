@@ -123,7 +123,7 @@ pub struct Args {
     /// e the unit vector of --current-angle and grad D the dune slope in m/m.
     #[arg(long, default_value_t = 3.0)]
     steering: f64,
-    /// --dunes: dune-grid nodes per side, 2 ..= the surface's bins along its longer side (a
+    /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
     #[arg(long)]
     dune_grid: Option<usize>,
@@ -288,6 +288,16 @@ fn check_regime(a: &Args, p: &RippleParams) -> Result<()> {
             p.d50
         )),
         Regime::Ripples => {}
+    }
+    // The flow moves sand, but the model's grains may not move on a flat bed (as `cellsurf
+    // ripple` finds before its run): the tiles would be the unmoved starting bed.
+    let clock = cellsurf::ripple::clock::StepClock::of(p)?;
+    if !clock.grains_move() {
+        bail!(
+            "{flow} gives no motion in the model, so the tiles would be the unmoved starting bed: its largest speed, {:.3} m/s, is above the threshold of motion ({lo:.3} m/s), but {}",
+            r.speed,
+            super::ripple::model_stuck_reason(p, r.speed, "stoss_angle")
+        );
     }
     Ok(())
 }
@@ -644,6 +654,20 @@ pub fn run(a: Args) -> Result<()> {
             } else {
                 "--choose same"
             }
+        ));
+    }
+    if choose == Choose::Same && tiles.len() > 1 {
+        conv::note(format_args!(
+            "warning: --choose same lays only the first tile ({}): the other {} ({}) are not used; give --choose patches to lay them all",
+            labels[0],
+            tiles.len() - 1,
+            labels[1..].join("; ")
+        ));
+    }
+    if a.dune_wavelength.is_some() && conv::typed("hurst") {
+        conv::note(format_args!(
+            "warning: --hurst = {} has no effect: --dune-wavelength replaces the power-law (fBm) spectrum that the Hurst exponent shapes",
+            a.hurst
         ));
     }
     let mosaic = Mosaic::new(tiles, mx, my, choose, a.seed, a.blend)?;

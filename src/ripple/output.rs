@@ -546,6 +546,32 @@ pub fn write_npy(
     write_npy_with(out, r, snapshots, spec, &[])
 }
 
+/// The files [`write_npy`] writes for `out` and `spec`, in the order written: one `.npy` per
+/// field (`STEM.npy` the elevation, `STEM_FIELD.npy` a volume field), then the sidecar
+/// `STEM.json`. A caller checks them all before a run, so that a run never fails at its end
+/// on a path it could not write.
+pub fn npy_paths(out: &Path, spec: &OutputSpec) -> Vec<PathBuf> {
+    let stem = out.with_extension("");
+    let file = |suffix: &str| {
+        let mut s = stem.as_os_str().to_owned();
+        s.push(suffix);
+        PathBuf::from(s)
+    };
+    let mut v: Vec<PathBuf> = spec
+        .fields
+        .iter()
+        .map(|&f| {
+            if f == Field::Elevation {
+                file(".npy")
+            } else {
+                file(&format!("_{}.npy", f.name()))
+            }
+        })
+        .collect();
+    v.push(file(".json"));
+    v
+}
+
 /// [`write_npy`] with the run's own attributes `extra` ([`RunAttributes`]) in the sidecar.
 pub fn write_npy_with(
     out: &Path,
@@ -555,15 +581,10 @@ pub fn write_npy_with(
     extra: &RunAttributes,
 ) -> Result<Vec<PathBuf>, RippleError> {
     let (nx, ny) = r.size();
-    let stem = out.with_extension("");
-    let file = |suffix: &str| {
-        let mut s = stem.as_os_str().to_owned();
-        s.push(suffix);
-        PathBuf::from(s)
-    };
+    let paths = npy_paths(out, spec);
     let mut written = Vec::new();
     let mut entries = Vec::new();
-    for &f in &spec.fields {
+    for (&f, path) in spec.fields.iter().zip(&paths) {
         let (shape, data) = if f == Field::Elevation {
             let mut all = Vec::new();
             for s in snapshots {
@@ -574,13 +595,8 @@ pub fn write_npy_with(
             let nz = volume_levels(r);
             (vec![nz, ny, nx], volume_field(r, f, f32::NAN))
         };
-        let path = if f == Field::Elevation {
-            file(".npy")
-        } else {
-            file(&format!("_{}.npy", f.name()))
-        };
-        crate::engine::io::write_atomic(&path, &npy_bytes(&shape, &data))
-            .map_err(|e| io_err(&path, e))?;
+        crate::engine::io::write_atomic(path, &npy_bytes(&shape, &data))
+            .map_err(|e| io_err(path, e))?;
         let (units, long) = f.meta();
         let dims = if f == Field::Elevation {
             "[\"time\", \"y\", \"x\"]"
@@ -595,7 +611,7 @@ pub fn write_npy_with(
             json_string(units),
             json_string(long)
         ));
-        written.push(path);
+        written.push(path.clone());
     }
     let mut params = Vec::new();
     for (k, v) in toml_pairs(r.params()) {
@@ -618,9 +634,9 @@ pub fn write_npy_with(
         entries.join(",\n"),
         params.join(",\n")
     );
-    let side = file(".json");
-    crate::engine::io::write_atomic(&side, json.as_bytes()).map_err(|e| io_err(&side, e))?;
-    written.push(side);
+    let side = paths.last().expect("the sidecar is the last path");
+    crate::engine::io::write_atomic(side, json.as_bytes()).map_err(|e| io_err(side, e))?;
+    written.push(side.clone());
     Ok(written)
 }
 

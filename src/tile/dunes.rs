@@ -39,7 +39,7 @@ pub struct DuneParams {
     pub relief: Relief,
     /// Rms dune height, m.
     pub rms: f64,
-    /// Dune-grid nodes along each side: 2 ..= the mosaic's bins along its longer side (a shorter
+    /// Dune-grid nodes along each side: 3 ..= the mosaic's bins along its longer side (a shorter
     /// side gets at most its own bins).
     pub grid: usize,
     /// Current direction theta0, degrees counter-clockwise from +x.
@@ -73,12 +73,14 @@ impl RippledDunes {
     /// Ripples from `mosaic` on dunes of `p` spanning the whole mosaic.
     pub fn new(mosaic: Mosaic, p: &DuneParams) -> Result<RippledDunes, TileError> {
         let (w, h) = mosaic.size();
-        if p.grid < 2 || p.grid > w.max(h) {
+        // (a periodic grid of 2 nodes alternates: its central differences, the slopes the
+        // interpolation and the slope statistics use, all vanish)
+        if p.grid < 3 || p.grid > w.max(h) {
             return Err(TileError::range(
                 "dune_grid",
                 p.grid,
                 format!(
-                    "2 ..= {} nodes (the surface's bins along its longer side)",
+                    "3 ..= {} nodes (the surface's bins along its longer side; a periodic grid of 2 nodes has no slope)",
                     w.max(h)
                 ),
             ));
@@ -249,6 +251,9 @@ impl RowSource for RippledDunes {
     }
     fn bin_size(&self) -> f64 {
         self.dx
+    }
+    fn layer_thickness(&self) -> f64 {
+        RowSource::layer_thickness(&self.mosaic)
     }
     fn tile_size(&self) -> (usize, usize) {
         self.mosaic.tile_size()

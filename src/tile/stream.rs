@@ -51,10 +51,8 @@ pub trait RowSource: Sync {
     fn levels(&self) -> usize {
         0
     }
-    /// Height of one volume level, m.
-    fn layer_thickness(&self) -> f64 {
-        self.bin_size()
-    }
+    /// Height of one volume level (the tiles' automaton), m: every source says its own.
+    fn layer_thickness(&self) -> f64;
     /// Writes the volume slab under row `y` on `(z, x)` (`levels x width` values, NaN above the
     /// bed) into `out`.
     fn fill_volume_row(&self, _y: usize, out: &mut [f32]) {
@@ -559,6 +557,9 @@ mod tests {
         }
         fn bin_size(&self) -> f64 {
             0.01
+        }
+        fn layer_thickness(&self) -> f64 {
+            0.001
         }
         fn tile_size(&self) -> (usize, usize) {
             (4, 3)
