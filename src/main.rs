@@ -87,7 +87,7 @@ fn parse() -> Cli {
     let matches = command
         .clone()
         .try_get_matches()
-        .unwrap_or_else(|e| plain_parse_error(&mut command, e).exit());
+        .unwrap_or_else(|e| cmd::conv::plain_parse_error(&mut command, e).exit());
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some((name, sub)) = matches.subcommand() {
         let words: Vec<String> = std::env::args().skip_while(|w| w != name).skip(1).collect();
@@ -96,38 +96,6 @@ fn parse() -> Cli {
         }
     }
     cli
-}
-
-/// A value that is not a number where a number is expected, said in words with the form
-/// expected (the standard library's "invalid digit found in string" names neither); the range
-/// of a number that parses is checked by its option, which names it. Other errors pass as they
-/// are.
-fn plain_parse_error(command: &mut clap::Command, e: clap::Error) -> clap::Error {
-    use clap::error::{ContextKind, ErrorKind};
-    use std::error::Error as _;
-    if e.kind() != ErrorKind::ValueValidation {
-        return e;
-    }
-    let expected = match e.source() {
-        Some(s) if s.is::<std::num::ParseIntError>() => "a whole number, 0 or more",
-        Some(s) if s.is::<std::num::ParseFloatError>() => "a number (e.g. 0.5 or 1e-3)",
-        _ => return e,
-    };
-    let (Some(arg), Some(value)) = (
-        e.get(ContextKind::InvalidArg),
-        e.get(ContextKind::InvalidValue),
-    ) else {
-        return e;
-    };
-    let msg = format!("invalid value '{value}' for '{arg}': expected {expected}");
-    let name = std::env::args().nth(1).unwrap_or_default();
-    match command.find_subcommand(&name) {
-        Some(sc) => sc
-            .clone()
-            .bin_name(format!("cellsurf {name}"))
-            .error(ErrorKind::ValueValidation, msg),
-        None => command.error(ErrorKind::ValueValidation, msg),
-    }
 }
 
 fn main() -> ExitCode {

@@ -158,6 +158,38 @@ pub fn envelope(
     Ok(serde_json::Value::Object(v))
 }
 
+/// A value that is not a number where a number is expected, said in words with the form
+/// expected (the standard library's "invalid digit found in string" names neither); the range
+/// of a number that parses is checked by its option, which names it. Other errors pass as they
+/// are.
+pub fn plain_parse_error(command: &mut clap::Command, e: clap::Error) -> clap::Error {
+    use clap::error::{ContextKind, ErrorKind};
+    use std::error::Error as _;
+    if e.kind() != ErrorKind::ValueValidation {
+        return e;
+    }
+    let expected = match e.source() {
+        Some(s) if s.is::<std::num::ParseIntError>() => "a whole number, 0 or more",
+        Some(s) if s.is::<std::num::ParseFloatError>() => "a number (e.g. 0.5 or 1e-3)",
+        _ => return e,
+    };
+    let (Some(arg), Some(value)) = (
+        e.get(ContextKind::InvalidArg),
+        e.get(ContextKind::InvalidValue),
+    ) else {
+        return e;
+    };
+    let msg = format!("invalid value '{value}' for '{arg}': expected {expected}");
+    let name = std::env::args().nth(1).unwrap_or_default();
+    match command.find_subcommand(&name) {
+        Some(sc) => sc
+            .clone()
+            .bin_name(format!("cellsurf {name}"))
+            .error(ErrorKind::ValueValidation, msg),
+        None => command.error(ErrorKind::ValueValidation, msg),
+    }
+}
+
 /// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
 pub fn parse_count(s: &str) -> Result<u64, String> {
     let t = s.trim();
