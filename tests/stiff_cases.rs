@@ -376,8 +376,20 @@ fn scene_on_a_tiny_lattice_reports_lattice_full() {
         assert_eq!(r.stop, StopReason::LatticeFull, "{sampler:?}");
         assert_eq!(r.last.occupied, 36);
         assert_eq!(r.last.surface, 0);
-        assert_eq!(r.snapshots.len(), 2);
-        assert!(r.snapshots[1].states.iter().all(|&s| s == 2));
+        // A panel per requested time before the lattice filled, then the final state once
+        // in place of the times it did not reach (all of them for the CA, full at t = 3).
+        let last = r.snapshots.last().unwrap();
+        assert!(last.states.iter().all(|&s| s == 2));
+        assert_eq!(last.time, r.last.time);
+        let before = cfg.snapshots.iter().filter(|&&t| (t as f64) < r.last.time);
+        assert_eq!(r.snapshots.len(), before.count() + 1, "{sampler:?}");
+        let after: Vec<u64> = cfg
+            .snapshots
+            .iter()
+            .copied()
+            .filter(|&t| t as f64 > r.last.time)
+            .collect();
+        assert_eq!(last.unreached, after);
         assert!(r.snapshots.iter().all(|s| s.time.is_finite()));
         assert!(r.series.iter().all(|o| o.time.is_finite()));
     }
@@ -809,7 +821,10 @@ fn scene_reports_clock_overflow_and_rejection_completes() {
     assert_eq!(r.stop, StopReason::ClockOverflow);
     assert_eq!(r.last.accepted, 0);
     assert!(r.series.iter().all(|o| !o.time.is_nan()));
-    assert_eq!(r.snapshots.len(), 2);
+    // The state is final at once: one panel, in place of both requested times.
+    assert_eq!(r.snapshots.len(), 1);
+    assert_eq!(r.snapshots[0].time, r.last.time);
+    assert_eq!(r.snapshots[0].unreached, vec![10, 5000]);
     cfg.sampler = SamplerKind::Rejection;
     let r = scene::run(&cfg, &mut NoHooks).unwrap();
     assert_eq!(r.stop, StopReason::Completed);

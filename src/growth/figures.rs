@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 
 use super::converge::{self, ConvergeCurve};
 use super::sampler::SamplerKind;
-use super::scene::{self, NoHooks, Observables, RunResult, SceneConfig, SceneError};
+use super::scene::{
+    self, NoHooks, Observables, RunResult, SceneConfig, SceneError, Snapshot, StopReason,
+};
 use crate::engine::VERSION;
 use crate::plot::{self, CellField, Chart, Figure, FigureError, Palette, Panel, PlotError, Series};
 
@@ -124,13 +126,24 @@ fn clock_label(time: f64, log10_time: f64) -> String {
     }
 }
 
+/// A snapshot's title: its clock, and for the final state drawn in place of requested times
+/// the run did not reach, why it stopped and the first of them (`t = 169: lattice full
+/// before t = 500`).
+pub fn snapshot_title(s: &Snapshot, stop: StopReason) -> String {
+    let clock = clock_label(s.time, s.log10_time);
+    match s.unreached.first() {
+        Some(t) => format!("{clock}: {} before t = {t}", stop.describe()),
+        None => clock,
+    }
+}
+
 /// The snapshots of a run as panels.
 pub fn snapshot_panels(r: &RunResult) -> Vec<Panel> {
     let c = &r.config;
     r.snapshots
         .iter()
         .map(|s| Panel {
-            title: clock_label(s.time, s.log10_time),
+            title: snapshot_title(s, r.stop),
             field: CellField {
                 nx: c.width,
                 ny: c.height,
@@ -500,4 +513,29 @@ fn kpz_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         (760, 520),
     )?;
     Ok(vec![p])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panel_drawn_for_times_the_run_did_not_reach_says_so() {
+        let mut s = Snapshot {
+            time: 169.0,
+            log10_time: 169f64.log10(),
+            states: Vec::new(),
+            unreached: Vec::new(),
+        };
+        assert_eq!(snapshot_title(&s, StopReason::LatticeFull), "t = 169");
+        s.unreached = vec![500, 1000];
+        assert_eq!(
+            snapshot_title(&s, StopReason::LatticeFull),
+            "t = 169: lattice full before t = 500"
+        );
+        assert_eq!(
+            snapshot_title(&s, StopReason::Events),
+            "t = 169: events reached before t = 500"
+        );
+    }
 }

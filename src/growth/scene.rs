@@ -585,6 +585,26 @@ pub enum StopReason {
     Occupied,
 }
 
+impl StopReason {
+    /// A few words for titles: `lattice full`, `events reached`, ...
+    pub fn describe(self) -> &'static str {
+        match self {
+            StopReason::Completed => "steps reached",
+            StopReason::LatticeFull => "lattice full",
+            StopReason::Stalled => "stalled",
+            StopReason::ClockOverflow => "clock overflow",
+            StopReason::Events => "events reached",
+            StopReason::Occupied => "occupied fraction reached",
+        }
+    }
+
+    /// Whether the state is final before the clock limit: nothing can change it any more
+    /// and the clock stops (unlike a stalled run, whose clock still runs to its limit).
+    fn is_final(self) -> bool {
+        matches!(self, StopReason::LatticeFull | StopReason::ClockOverflow)
+    }
+}
+
 /// Values of the scene's observables at one time (`None` where not defined).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Observables {
@@ -630,6 +650,10 @@ pub struct Snapshot {
     pub log10_time: f64,
     /// Drawing state per cell, `y * width + x`.
     pub states: Vec<u8>,
+    /// The requested snapshot times that the run did not reach because it stopped first
+    /// (the lattice full, or an event target reached): this final state is drawn once in
+    /// their place. Empty for a snapshot at its own time.
+    pub unreached: Vec<u64>,
 }
 
 /// Everything a run produced.
@@ -828,7 +852,7 @@ fn run_by_clock(
     checkpoints.sort_by(f64::total_cmp);
     checkpoints.dedup();
 
-    let mut snapshots = Vec::new();
+    let mut snapshots: Vec<Snapshot> = Vec::new();
     let t = Instant::now();
     let mut series = vec![observe(cfg, g)];
     *observe_s += t.elapsed().as_secs_f64();
@@ -836,22 +860,34 @@ fn run_by_clock(
     let mut next_snap = 0;
     let mut next_series = 0;
     let mut next_frame = 0;
+    // Accepted events at the last frame drawn (the state it shows).
+    let mut frame_at = None;
     for &cp in &checkpoints {
         if stop == StopReason::Completed || stop == StopReason::Stalled {
             stop = stop_of(advance(cfg, g, rng, cp, u64::MAX), stop);
         }
         let t = Instant::now();
+        if stop.is_final() {
+            // The state is final (the lattice full) and the clock has stopped before `cp`:
+            // what is left of the series and the snapshots is this state, recorded once.
+            if !series_times.is_empty() {
+                push_final_observation(cfg, g, &mut series);
+            }
+            if next_snap < snap_times.len() {
+                push_final_snapshot(g, &mut snapshots, &snap_times[next_snap..]);
+            }
+            *observe_s += t.elapsed().as_secs_f64();
+            if next_frame < frames.len() && frame_at != Some(g.accepted()) {
+                hooks.frame(g.time(), g);
+            }
+            break;
+        }
         while next_snap < snap_times.len() && snap_times[next_snap] as f64 <= cp {
-            let (time, log10_time) = if stop == StopReason::Completed || stop == StopReason::Stalled
-            {
-                (cp, cp.log10())
-            } else {
-                (g.time(), g.log10_time())
-            };
             snapshots.push(Snapshot {
-                time,
-                log10_time,
+                time: cp,
+                log10_time: cp.log10(),
                 states: g.field_states(),
+                unreached: Vec::new(),
             });
             next_snap += 1;
         }
@@ -862,11 +898,73 @@ fn run_by_clock(
         *observe_s += t.elapsed().as_secs_f64();
         while next_frame < frames.len() && frames[next_frame] <= cp {
             hooks.frame(frames[next_frame], g);
+            frame_at = Some(g.accepted());
             next_frame += 1;
         }
         hooks.progress(g.time().min(steps), steps);
     }
+    if stop.is_final() && cfg.sampler == SamplerKind::Ca && !series_times.is_empty() {
+        let t = Instant::now();
+        if let Some(s) = ca_series_replay(cfg, g.time()) {
+            series = s;
+        }
+        *observe_s += t.elapsed().as_secs_f64();
+    }
     (snapshots, series, stop)
+}
+
+/// Appends the observation of the final state to `series`, unless its last point already is
+/// that state at that time.
+fn push_final_observation(cfg: &SceneConfig, g: &Growth, series: &mut Vec<Observation>) {
+    if series
+        .last()
+        .is_none_or(|o| o.accepted != g.accepted() || o.time != g.time())
+    {
+        series.push(observe(cfg, g));
+    }
+}
+
+/// Draws the final state once in place of the requested snapshot times `pending` (those not
+/// taken yet); the times it did not reach (all but the final time itself) are recorded in its
+/// `unreached`. A snapshot that already shows the final state at its time takes them instead
+/// of a second panel.
+fn push_final_snapshot(g: &Growth, snapshots: &mut Vec<Snapshot>, pending: &[u64]) {
+    let unreached: Vec<u64> = pending
+        .iter()
+        .copied()
+        .filter(|&t| t as f64 != g.time())
+        .collect();
+    match snapshots.last_mut() {
+        Some(s) if s.time == g.time() => s.unreached.extend(unreached),
+        _ => snapshots.push(Snapshot {
+            time: g.time(),
+            log10_time: g.log10_time(),
+            states: g.field_states(),
+            unreached,
+        }),
+    }
+}
+
+/// The series of a CA run that stopped for good (the lattice full) at update `end`, before
+/// its clock limit: the CA is deterministic, so it is run again from the start and observed
+/// at `series` evenly spaced updates of the `end` it ran (every update when there are at
+/// most `series` of them), not at the times of a run it never finished. `None` if the
+/// replay does not end in the same state (it always should).
+fn ca_series_replay(cfg: &SceneConfig, end: f64) -> Option<Vec<Observation>> {
+    let mut g = cfg.build().ok()?;
+    let mut rng = crate::engine::rng::stream(cfg.seed);
+    let end = end as u64;
+    let mut times: Vec<u64> = (1..=cfg.series as u64)
+        .map(|k| (end as u128 * k as u128 / cfg.series as u128) as u64)
+        .filter(|&t| t > 0)
+        .collect();
+    times.dedup();
+    let mut series = vec![observe(cfg, &g)];
+    for t in times {
+        advance(cfg, &mut g, &mut rng, t as f64, u64::MAX);
+        series.push(observe(cfg, &g));
+    }
+    (g.time() == end as f64 && g.surface().is_empty()).then_some(series)
 }
 
 /// The stop reason after an [`advance`] that ended with `o` (the run so far: `stop`).
@@ -929,8 +1027,11 @@ fn run_by_events(
     let mut next_series = 0;
     let mut next_frame = 0;
     let mut stop = reason;
+    // Accepted events at the last frame drawn (the state it shows).
+    let mut frame_at = None;
     if !frames.is_empty() {
         hooks.frame(g.time(), g);
+        frame_at = Some(g.accepted());
     }
     'run: for &cp in &checkpoints {
         loop {
@@ -952,6 +1053,7 @@ fn run_by_events(
                     time: g.time(),
                     log10_time: g.log10_time(),
                     states: g.field_states(),
+                    unreached: Vec::new(),
                 });
                 *observe_s += t.elapsed().as_secs_f64();
                 next_snap += 1;
@@ -960,25 +1062,37 @@ fn run_by_events(
                 break 'run;
             }
         }
+        // (the CA adds many cells per update: several event counts can fall on one state,
+        // which is recorded once)
         let t = Instant::now();
+        if next_series < series_at.len() && series_at[next_series] <= cp {
+            push_final_observation(cfg, g, &mut series);
+        }
         while next_series < series_at.len() && series_at[next_series] <= cp {
-            series.push(observe(cfg, g));
             next_series += 1;
         }
         *observe_s += t.elapsed().as_secs_f64();
-        while next_frame < frames.len() && frames[next_frame] <= cp {
+        if next_frame < frames.len() && frames[next_frame] <= cp && frame_at != Some(g.accepted()) {
             hooks.frame(g.time(), g);
+            frame_at = Some(g.accepted());
+        }
+        while next_frame < frames.len() && frames[next_frame] <= cp {
             next_frame += 1;
         }
         hooks.progress((g.accepted() - start) as f64, events as f64);
     }
-    // The final state, unless a snapshot at the clock limit just drew it.
-    if hooks.wants_snapshots() && snapshots.last().is_none_or(|s| s.time != g.time()) {
-        snapshots.push(Snapshot {
-            time: g.time(),
-            log10_time: g.log10_time(),
-            states: g.field_states(),
-        });
+    // The final state, once: the run may have stopped (its clock limit, the lattice full)
+    // between two checkpoints.
+    let t = Instant::now();
+    if hooks.wants_series() {
+        push_final_observation(cfg, g, &mut series);
+    }
+    if hooks.wants_snapshots() {
+        push_final_snapshot(g, &mut snapshots, &snap_times[next_snap..]);
+    }
+    *observe_s += t.elapsed().as_secs_f64();
+    if !frames.is_empty() && frame_at != Some(g.accepted()) {
+        hooks.frame(g.time(), g);
     }
     (snapshots, series, stop)
 }
@@ -1134,6 +1248,166 @@ mod tests {
         let r = run(&c, &mut NoHooks).unwrap();
         assert_eq!(r.stop, StopReason::Completed);
         assert_eq!(r.snapshots.len(), 1);
+    }
+
+    /// Hooks that record the accepted events of every frame drawn.
+    struct Frames {
+        times: Vec<f64>,
+        count: usize,
+        drawn: Vec<u64>,
+    }
+    impl RunHooks for Frames {
+        fn frame_times(&self) -> Vec<f64> {
+            self.times.clone()
+        }
+        fn frame_count(&self) -> usize {
+            self.count
+        }
+        fn frame(&mut self, _time: f64, g: &Growth) {
+            self.drawn.push(g.accepted());
+        }
+    }
+
+    /// A 6 x 6 square torus from a seed cell: it fills within a few hundred timesteps.
+    fn filling(sampler: SamplerKind) -> SceneConfig {
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.lattice = Neighbourhood::Square4;
+        c.width = 6;
+        c.height = 6;
+        c.sampler = sampler;
+        c.steps = 1000;
+        c.snapshots = vec![5, 500, 1000];
+        c.series = 50;
+        c
+    }
+
+    /// The series holds each state once, in order, and ends at the final state.
+    fn assert_series_ends_once(r: &RunResult) {
+        for w in r.series.windows(2) {
+            assert!(
+                w[1].time > w[0].time || w[1].accepted > w[0].accepted,
+                "{:?} repeats {:?}",
+                w[1],
+                w[0]
+            );
+        }
+        let end = r.series.last().unwrap();
+        assert_eq!((end.time, end.accepted), (r.last.time, r.last.accepted));
+    }
+
+    #[test]
+    fn a_run_that_fills_its_lattice_records_its_final_state_once() {
+        for sampler in [SamplerKind::Exact, SamplerKind::Rejection] {
+            let r = run(&filling(sampler), &mut NoHooks).unwrap();
+            assert_eq!(r.stop, StopReason::LatticeFull, "{sampler}");
+            assert!(r.last.time < 500.0, "{sampler}: {}", r.last.time);
+            assert_series_ends_once(&r);
+            // The snapshot at 5, then the final state once for 500 and 1000.
+            let times: Vec<f64> = r.snapshots.iter().map(|s| s.time).collect();
+            assert_eq!(times, vec![5.0, r.last.time], "{sampler}");
+            assert!(r.snapshots[0].unreached.is_empty());
+            assert_eq!(r.snapshots[1].unreached, vec![500, 1000]);
+            assert!(r.snapshots[1].states.iter().all(|&s| s == 2));
+            // The animation ends at the final state, drawn once.
+            let mut h = Frames {
+                times: (0..=20).map(|k| f64::from(k) * 50.0).collect(),
+                count: 0,
+                drawn: Vec::new(),
+            };
+            run(&filling(sampler), &mut h).unwrap();
+            assert_eq!(h.drawn.last(), Some(&r.last.accepted));
+            let finals = h.drawn.iter().filter(|&&a| a == r.last.accepted).count();
+            assert_eq!(finals, 1, "{:?}", h.drawn);
+        }
+        // The CA fills the torus in a few updates: its series has every one of them, spaced
+        // over the run it made rather than the 1000 it was given.
+        let r = run(&filling(SamplerKind::Ca), &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::LatticeFull);
+        let end = r.last.time as u64;
+        assert!((2..50).contains(&end), "{end}");
+        let times: Vec<f64> = r.series.iter().map(|o| o.time).collect();
+        assert_eq!(times, (0..=end).map(|t| t as f64).collect::<Vec<_>>());
+        assert_series_ends_once(&r);
+        let times: Vec<f64> = r.snapshots.iter().map(|s| s.time).collect();
+        assert_eq!(times, vec![5.0, r.last.time]);
+        assert_eq!(r.snapshots[1].unreached, vec![500, 1000]);
+        // The same state reached by a run that is not replayed: the CA's updates up to `end`.
+        let mut c = filling(SamplerKind::Ca);
+        c.steps = end;
+        c.snapshots = vec![end];
+        c.series = end as usize;
+        let whole = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(whole.series, r.series);
+        // Longer than the series: 50 points evenly spaced over the updates it ran.
+        let mut c = filling(SamplerKind::Ca);
+        c.width = 200;
+        c.height = 6;
+        c.steps = 10_000;
+        c.snapshots.clear();
+        c.series = 10;
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::LatticeFull);
+        let end = r.last.time as u64;
+        let times: Vec<u64> = r.series.iter().map(|o| o.time as u64).collect();
+        let expect: Vec<u64> = (0..=10).map(|k| end * k / 10).collect();
+        assert_eq!(times, expect);
+    }
+
+    #[test]
+    fn an_event_run_records_its_final_state_once() {
+        // Stopped by a full lattice before its event target.
+        let mut c = filling(SamplerKind::Exact);
+        c.events = Some(1000);
+        c.snapshots.clear();
+        let mut h = Frames {
+            times: Vec::new(),
+            count: 60,
+            drawn: Vec::new(),
+        };
+        let r = run(&c, &mut h).unwrap();
+        assert_eq!(r.stop, StopReason::LatticeFull);
+        assert_series_ends_once(&r);
+        assert_eq!(h.drawn.last(), Some(&r.last.accepted));
+        assert!(h.drawn.windows(2).all(|w| w[1] > w[0]), "{:?}", h.drawn);
+        // Stopped by its clock between two event checkpoints: a last row at the clock limit.
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.width = 20;
+        c.height = 20;
+        c.events = Some(100);
+        c.steps = 300;
+        c.snapshots.clear();
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::Completed);
+        assert_eq!(r.last.time, 300.0);
+        assert_series_ends_once(&r);
+        // The CA adds many cells per update: an update that passes several event counts is
+        // one row and one frame.
+        let mut c = SceneConfig::defaults(SceneKind::Ca);
+        c.events = Some(5);
+        c.steps = 0;
+        c.snapshots.clear();
+        let mut h = Frames {
+            times: Vec::new(),
+            count: 5,
+            drawn: Vec::new(),
+        };
+        let r = run(&c, &mut h).unwrap();
+        assert_series_ends_once(&r);
+        assert_eq!(r.series.len(), r.last.time as usize + 1);
+        assert_eq!(h.drawn.len(), r.last.time as usize + 1);
+        assert!(h.drawn.windows(2).all(|w| w[1] > w[0]), "{:?}", h.drawn);
+        // A snapshot the event target came before: the final state, saying so.
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.width = 20;
+        c.height = 20;
+        c.events = Some(10);
+        c.steps = 1000;
+        c.snapshots = vec![1000];
+        let r = run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::Events);
+        assert_eq!(r.snapshots.len(), 1);
+        assert_eq!(r.snapshots[0].time, r.last.time);
+        assert_eq!(r.snapshots[0].unreached, vec![1000]);
     }
 
     #[test]
