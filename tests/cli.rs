@@ -223,6 +223,37 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
     std::fs::remove_dir_all(dir.parent().unwrap()).ok();
 }
 
+/// A disc of the default size sits on the middle cell of a lattice with odd sides; where the
+/// default holds no cell (a hex lattice whose middle row is shifted half a cell), the error
+/// names `--start`, which the user never typed.
+#[test]
+fn a_default_disc_runs_on_odd_sides_and_an_empty_one_names_start() {
+    for size in ["21", "21x20", "20x21"] {
+        let args = [
+            "grow",
+            "--lattice",
+            "square4",
+            "--size",
+            size,
+            "--shape",
+            "disc",
+        ];
+        let out = cellsurf(&[&args[..], &["--steps", "10", "--json"]].concat());
+        assert!(
+            out.status.success(),
+            "{size}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let out = cellsurf(&["grow", "--size", "6", "--shape", "disc", "--steps", "10"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--start = 1 (the default) is out of range: the initial disc holds no cell"),
+        "{err}"
+    );
+}
+
 /// A flag the run does not use is warned about, naming the flag and why (growth scenes and
 /// dunes); the run still succeeds, and the same run where the flag acts has no such warning.
 #[test]

@@ -407,8 +407,25 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if a.gif_frames == 0 || a.gif_frames > 2000 {
         bail!("--gif-frames = {} is out of range: 1 to 2000", a.gif_frames);
     }
-    c.validate()?;
+    c.validate().map_err(|e| name_default(e, a))?;
     Ok(c)
+}
+
+/// A parameter out of range that the user did not type (neither on the command line nor
+/// through --scenario) holds the scene's default: the error names the flag that sets it.
+fn name_default(e: scene::SceneError, a: &GrowArgs) -> anyhow::Error {
+    if let scene::SceneError::Range {
+        parameter,
+        value,
+        expected,
+    } = &e
+        && a.scenario.is_none()
+        && !conv::typed(parameter)
+        && let Some(flag) = conv::typed_flag(parameter)
+    {
+        return anyhow::anyhow!("{flag} = {value} (the default) is out of range: {expected}");
+    }
+    e.into()
 }
 
 fn palette(scene: SceneKind) -> Palette {
@@ -608,7 +625,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         series: outs.get(Format::Csv).is_some(),
         snapshots: outs.get(Format::Png).is_some(),
     };
-    let r = scene::run(&cfg, &mut hooks)?;
+    let r = scene::run(&cfg, &mut hooks).map_err(|e| name_default(e, &a))?;
     hooks.bar.finish_and_clear();
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
     if let Some(e) = hooks.gif_error.take() {

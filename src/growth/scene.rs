@@ -516,12 +516,23 @@ impl SceneConfig {
         Ok(())
     }
 
-    /// The centre of the initial shape and of the Eq. (5) weight (physical coordinates).
+    /// The centre of the initial shape and of the Eq. (5) weight (physical coordinates): half
+    /// the lattice's extent on an axis with an even number of cells (a cell's centre, except
+    /// on the shifted rows of a hex lattice), and the middle cell's (column `W / 2`, row
+    /// `H / 2`, rounded down) on an axis with an odd number: half the extent would fall
+    /// between two cells there, half a cell off the lattice's symmetric centre.
     pub fn centre(&self, lattice: &Lattice) -> (f64, f64) {
         let (pw, ph) = lattice.physical_size();
         match self.shape {
             Shape::Point => lattice.position(lattice.nearest_cell(pw / 2.0, ph / 2.0)),
-            _ => (pw / 2.0, ph / 2.0),
+            _ => {
+                let (w, h) = (lattice.width(), lattice.height());
+                let (mx, my) = lattice.position_xy(w / 2, h / 2);
+                (
+                    if w % 2 == 1 { mx } else { pw / 2.0 },
+                    if h % 2 == 1 { my } else { ph / 2.0 },
+                )
+            }
         }
     }
 
@@ -560,7 +571,10 @@ impl SceneConfig {
             return Err(range(
                 "start",
                 s,
-                "the initial shape holds no cell: make it larger",
+                format!(
+                    "the initial {} holds no cell of the lattice: make it larger",
+                    self.shape.name()
+                ),
             ));
         }
         Ok(g)
@@ -1408,6 +1422,55 @@ mod tests {
         assert_eq!(r.snapshots.len(), 1);
         assert_eq!(r.snapshots[0].time, r.last.time);
         assert_eq!(r.snapshots[0].unreached, vec![1000]);
+    }
+
+    #[test]
+    fn a_default_disc_sits_on_the_middle_cell_of_an_odd_lattice() {
+        for (lattice, w, h) in [
+            (Neighbourhood::Square4, 21, 21),
+            (Neighbourhood::Square8, 21, 20),
+            (Neighbourhood::Square4, 20, 21),
+            (Neighbourhood::Hex, 21, 20),
+            (Neighbourhood::Hex, 21, 22),
+        ] {
+            let mut c = SceneConfig::defaults(SceneKind::Grow);
+            c.lattice = lattice;
+            c.width = w;
+            c.height = h;
+            c.shape = Shape::Disc;
+            let g = c.build().unwrap();
+            assert_eq!(g.occupied(), 1, "{lattice} {w}x{h}");
+            let l = g.lattice();
+            let (cx, cy) = c.centre(l);
+            let (pw, ph) = l.physical_size();
+            if w % 2 == 1 {
+                assert_eq!(cx, l.position_xy(w / 2, h / 2).0, "{lattice} {w}x{h}");
+            } else {
+                assert_eq!(cx, pw / 2.0);
+            }
+            if h % 2 == 1 {
+                assert_eq!(cy, (h / 2) as f64);
+            } else {
+                assert_eq!(cy, ph / 2.0);
+            }
+            // A disc of 5 cell widths on a square lattice: the same cells either side of the
+            // centre, so symmetric about the lattice's middle on an odd side.
+            c.start = 5.0;
+            let g = c.build().unwrap();
+            if lattice == Neighbourhood::Square4 && w % 2 == 1 && h % 2 == 1 {
+                let states = g.field_states();
+                for y in 0..h {
+                    for x in 0..w {
+                        assert_eq!(states[y * w + x], states[(h - 1 - y) * w + (w - 1 - x)]);
+                    }
+                }
+            }
+        }
+        // Even sizes keep half the extent, as before.
+        let c = SceneConfig::defaults(SceneKind::Flame);
+        let l = Lattice::new(c.lattice, c.width, c.height, c.boundary).unwrap();
+        let (pw, ph) = l.physical_size();
+        assert_eq!(c.centre(&l), (pw / 2.0, ph / 2.0));
     }
 
     #[test]
