@@ -172,8 +172,25 @@ fn the_cli_takes_counts_in_scientific_notation_and_names_bad_ones() {
     assert_eq!(v["stop_reason"], "events");
     assert_eq!(v["clock_exact"], false);
     assert!(v["log10_clock"].as_f64().unwrap() > 308.0);
+    // Snapshots are timesteps too.
+    let out = common::cellsurf(&[
+        "grow",
+        "--steps",
+        "2e4",
+        "--snapshots",
+        "5e3,1e4,2e4",
+        "--print-scenario",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("snapshots = [5000, 10000, 20000]"), "{text}");
     for (args, flag) in [
         (vec!["flame", "--steps", "1.5"], "--steps"),
+        (vec!["flame", "--snapshots", "1e3,2.5e0"], "--snapshots"),
         (vec!["flame", "--events", "-1"], "--events"),
         (
             vec!["flame", "--until-occupied", "2"],

@@ -61,8 +61,9 @@ pub struct GrowArgs {
     /// Stop when this fraction of the lattice is occupied, in (0, 1].
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
     until_occupied: Option<f64>,
-    /// Timesteps of the snapshots drawn by --out, comma-separated and increasing.
-    #[arg(long, value_delimiter = ',')]
+    /// Timesteps of the snapshots drawn by --out, comma-separated and increasing; whole
+    /// numbers, `1e4` accepted.
+    #[arg(long, value_name = "T1,T2,...", value_delimiter = ',', value_parser = conv::parse_count, allow_negative_numbers = true)]
     snapshots: Option<Vec<u64>>,
     /// Sampler: exact (rejection-free, same process and clock), rejection (the paper's) or ca.
     #[arg(long)]

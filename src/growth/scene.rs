@@ -249,6 +249,43 @@ pub struct SceneConfig {
     pub series: usize,
 }
 
+/// The scenario keys that hold whole numbers (sizes, counts, timesteps, the seed).
+const WHOLE_KEYS: [&str; 8] = [
+    "width",
+    "height",
+    "steps",
+    "events",
+    "snapshots",
+    "ca_rule",
+    "seed",
+    "series",
+];
+
+/// Turns the whole-valued floats of the [`WHOLE_KEYS`] (`steps = 1e4`, a TOML float) into
+/// integers, as `--steps 1e4` is read; any other float there is refused, naming the key.
+fn whole_numbers(table: &mut toml::Table) -> Result<(), SceneError> {
+    fn whole(key: &str, v: &mut toml::Value) -> Result<(), SceneError> {
+        if let toml::Value::Float(f) = *v {
+            // (below 2^63: the largest TOML integer is 2^63 - 1)
+            if !((0.0..9_223_372_036_854_775_808.0).contains(&f) && f.fract() == 0.0) {
+                return Err(SceneError::Toml(format!(
+                    "`{key}` = {f}: expected a whole number, 0 or more (e.g. 10000 or 1e4)"
+                )));
+            }
+            *v = toml::Value::Integer(f as i64);
+        }
+        Ok(())
+    }
+    for key in WHOLE_KEYS {
+        match table.get_mut(key) {
+            Some(toml::Value::Array(a)) => a.iter_mut().try_for_each(|v| whole(key, v))?,
+            Some(v) => whole(key, v)?,
+            None => {}
+        }
+    }
+    Ok(())
+}
+
 /// The largest step count: the clock is exact in `f64` below `2^53`.
 pub const MAX_STEPS: u64 = 1 << 53;
 
@@ -364,6 +401,8 @@ impl SceneConfig {
         let defaults = SceneConfig::defaults(scene);
         let mut merged =
             toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let mut table = table;
+        whole_numbers(&mut table)?;
         let snapshots_given = table.contains_key("snapshots");
         let steps_given = table.contains_key("steps");
         for (k, v) in table {
@@ -1471,6 +1510,32 @@ mod tests {
         let l = Lattice::new(c.lattice, c.width, c.height, c.boundary).unwrap();
         let (pw, ph) = l.physical_size();
         assert_eq!(c.centre(&l), (pw / 2.0, ph / 2.0));
+    }
+
+    #[test]
+    fn a_scenario_takes_whole_floats_for_counts() {
+        let c = SceneConfig::from_toml(
+            "scene = \"grow\"\nsteps = 1e4\nsnapshots = [1e3, 1e4]\nwidth = 64.0\nseed = 7.0\n",
+        )
+        .unwrap();
+        assert_eq!(c.steps, 10_000);
+        assert_eq!(c.snapshots, vec![1000, 10_000]);
+        assert_eq!((c.width, c.seed), (64, 7));
+        for (text, needle) in [
+            ("steps = 1.5", "`steps` = 1.5: expected a whole number"),
+            ("snapshots = [10, 2.5]", "`snapshots` = 2.5"),
+            ("events = -1e3", "`events` = -1000"),
+            (
+                "series = 1e30",
+                "`series` = 1000000000000000000000000000000",
+            ),
+        ] {
+            let e = SceneConfig::from_toml(&format!("scene = \"grow\"\n{text}\n"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(needle), "{text}: {e}");
+            assert!(!e.contains('\n'), "{text}: {e}");
+        }
     }
 
     #[test]
