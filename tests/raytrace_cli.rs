@@ -630,3 +630,71 @@ fn a_netcdf_mosaic_and_its_zarr_store_give_the_same_section() {
     assert!(a.len() > 50, "{}", a.len());
     assert_eq!(a, b);
 }
+
+#[test]
+fn steep_linear_gradient_matches_the_circular_arcs() {
+    // c = 1500 - 74.5 z over a flat floor at 20 m (10 m/s there): every ray of the default fan
+    // (1.5 to 25 deg from S at 10 m) is a circle centred where c would vanish; the lit floor
+    // runs from the 25-degree ray's hit to the 1.5-degree ray's. The fixed 0.25 m step used
+    // to throw the rays off (insonified fraction 0, Snell drift 18).
+    let (c0, g, z0) = (1500.0f64, -74.5f64, 10.0f64);
+    let zc = z0 - (c0 + g * z0) / g;
+    let hit = |deg: f64| {
+        let th = deg.to_radians();
+        let r = (c0 + g * z0) / (g.abs() * th.cos());
+        -r * th.sin() + (r * r - (20.0 - zc).powi(2)).sqrt()
+    };
+    let want = (hit(1.5) - hit(25.0)) / 100.0;
+    assert!((want - 0.0341603).abs() < 1e-6, "{want}");
+    let flat = flat_csv("flat_steep.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--profile",
+        "linear",
+        "--gradient",
+        "-74.5",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let got = v["insonified_fraction"].as_f64().unwrap();
+    assert!((got - want).abs() < 1e-8, "{got} vs the arcs' {want}");
+    let drift = v["max_snell_drift"].as_f64().unwrap();
+    assert!(drift < 1e-5, "{drift}");
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("warning"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn mackenzie_surface_reflected_rays_keep_snell() {
+    let flat = flat_csv("flat_mackenzie.csv");
+    let t = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/temperature.csv"
+    );
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--profile",
+        "mackenzie",
+        "--temperature-table",
+        t,
+        "--angle-min",
+        "-30",
+        "--angle-max",
+        "-30",
+        "--rays",
+        "2",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let drift = v["max_snell_drift"].as_f64().unwrap();
+    assert!(drift < 1e-9, "drift {drift} after a surface reflection");
+}

@@ -137,11 +137,35 @@ impl Table {
         self.eval(z)
     }
 
+    /// Value and derivative at `z` on the linear piece that meets depth `row` from above
+    /// (`above`) or from below, extended past its ends: the Runge-Kutta stages of a step that
+    /// ends on `row` may overshoot it by a hair (O(ds^3)), and must not take the next piece's
+    /// gradient there. Beyond the table's ends the end value, with derivative 0.
+    pub fn eval_piece(&self, z: f64, row: f64, above: bool) -> (f64, f64) {
+        let n = self.z.len();
+        let tol = row_tol(row);
+        // the piece [z[j], z[j + 1]]: above, the last one starting above the row; below, the
+        // last one starting at or above it
+        let starts = if above {
+            self.z.partition_point(|&d| d < row - tol)
+        } else {
+            self.z.partition_point(|&d| d <= row + tol)
+        };
+        match starts.checked_sub(1) {
+            None => (self.v[0], 0.0),
+            Some(j) if j + 1 >= n => (self.v[n - 1], 0.0),
+            Some(j) => {
+                let g = (self.v[j + 1] - self.v[j]) / (self.z[j + 1] - self.z[j]);
+                (self.v[j] + g * (z - self.z[j]), g)
+            }
+        }
+    }
+
     /// Value and derivative at `z`; outside the table the end value, with derivative 0.
-    /// At a row depth the layer below is used.
+    /// At a row depth the layer below is used (the first row included).
     pub fn eval(&self, z: f64) -> (f64, f64) {
         let n = self.z.len();
-        if z <= self.z[0] {
+        if z < self.z[0] {
             return (self.v[0], 0.0);
         }
         if z >= self.z[n - 1] {
@@ -202,6 +226,19 @@ pub fn mackenzie(t: f64, s: f64, d: f64) -> (f64, [f64; 3]) {
     let dsal = 1.340 - 1.025e-2 * t;
     let dd = 1.630e-2 + 2.0 * 1.675e-7 * d - 3.0 * 7.139e-13 * t * d * d;
     (c, [dt, dsal, dd])
+}
+
+/// The depth term of Mackenzie's equation at `z` and its derivative dD/dz: D = z from the
+/// surface (z = 0 included: a ray leaving the surface after a reflection feels the pressure
+/// term's gradient like one a hair below it) to [`MACKENZIE_D`]; outside, the end value, held
+/// constant (derivative 0).
+fn mackenzie_depth(z: f64) -> (f64, f64) {
+    let dd = if (0.0..MACKENZIE_D).contains(&z) {
+        1.0
+    } else {
+        0.0
+    };
+    (z.clamp(0.0, MACKENZIE_D), dd)
 }
 
 /// Validity range of Mackenzie's equation (Mackenzie 1981): temperature, deg C.
@@ -356,8 +393,7 @@ impl SoundSpeed {
             SoundSpeed::Mackenzie(m) => {
                 let (t, dt) = m.temperature.eval(z);
                 let (s, ds) = m.salinity.eval(z);
-                let d = z.clamp(0.0, MACKENZIE_D);
-                let dd = if z > 0.0 && z < MACKENZIE_D { 1.0 } else { 0.0 };
+                let (d, dd) = mackenzie_depth(z);
                 let (c, p) = mackenzie(t, s, d);
                 (c, p[0] * dt + p[1] * ds + p[2] * dd)
             }
@@ -372,8 +408,30 @@ impl SoundSpeed {
             SoundSpeed::Mackenzie(m) => {
                 let (t, dt) = m.temperature.eval_toward(z, down);
                 let (s, ds) = m.salinity.eval_toward(z, down);
-                let d = z.clamp(0.0, MACKENZIE_D);
-                let dd = if z > 0.0 && z < MACKENZIE_D { 1.0 } else { 0.0 };
+                let (d, dd) = mackenzie_depth(z);
+                let (c, p) = mackenzie(t, s, d);
+                (c, p[0] * dt + p[1] * ds + p[2] * dd)
+            }
+            _ => self.eval(z),
+        }
+    }
+
+    /// [`SoundSpeed::eval`] for the stages of a step that ends on the depth `row` (a table row
+    /// or the sea surface), coming from above (`above`) or below: each table is evaluated on
+    /// its piece that meets `row` on that side, extended past it ([`Table::eval_piece`]), and
+    /// Mackenzie's depth term is not held at the surface, so that a stage overshooting `row`
+    /// by a hair sees the smooth continuation of the layer the step comes through.
+    pub fn eval_piece(&self, z: f64, row: f64, above: bool) -> (f64, f64) {
+        match self {
+            SoundSpeed::Table(t) => t.eval_piece(z, row, above),
+            SoundSpeed::Mackenzie(m) => {
+                let (t, dt) = m.temperature.eval_piece(z, row, above);
+                let (s, ds) = m.salinity.eval_piece(z, row, above);
+                let (d, dd) = if z < MACKENZIE_D {
+                    (z, 1.0)
+                } else {
+                    (MACKENZIE_D, 0.0)
+                };
                 let (c, p) = mackenzie(t, s, d);
                 (c, p[0] * dt + p[1] * ds + p[2] * dd)
             }

@@ -7,11 +7,16 @@
 //! fourth-order Runge-Kutta scheme with a fixed step `ds` (BELLHOP uses a second-order scheme;
 //! RK4 makes the error of a step O(ds^5) in a smooth profile). Because c depends on z only,
 //! t_x stays exactly constant: the error shows as |t| drifting off 1/c, which is what the Snell
-//! invariant xi = cos(theta) / c measures ([`Ray::max_snell_drift`]). A step that would cross a
-//! profile table row is shortened to end on it, as BELLHOP does (a linear estimate of the
+//! invariant xi = cos(theta) / c measures ([`Ray::max_snell_drift`]). Where c changes fast, a
+//! step is at most [`GRADIENT_STEP`] times the scale length c / |dc/dz| at its start, a lower
+//! bound on the ray's radius of curvature (a fixed step longer than that leaps off the ray's
+//! arc; in ocean profiles the limit is 75 m or more and leaves `ds` alone). A step that would
+//! cross a profile table row is shortened to end on it, as BELLHOP does (a linear estimate of the
 //! length, then Newton iterations on it until the end is within 1e-9 (1 + z) m of the row), and
-//! a step starting on a row takes the gradient of the layer it enters, so that RK4 never
-//! straddles a gradient jump.
+//! a step starting on a row takes the gradient of the layer it enters, and every stage of a
+//! step that ends on a row (or on the surface) the layer it comes through, extended past the
+//! row ([`SoundSpeed::eval_piece`]; its last stage, at p + h k3, can overshoot by O(ds^3)), so
+//! that RK4 never straddles a gradient jump.
 //!
 //! Boundaries: each step's chord is tested against the surface z = 0 and the floor's segments
 //! ([`Seafloor::first_crossing`]). At a crossing at chord fraction f the step is redone from
@@ -25,8 +30,9 @@
 //! ray then approaches the floor by halving steps until the chord's sagitta h^2 / (8 R), over
 //! the sine of the grazing angle, is below 1e-10 m.
 //!
-//! Termination: at most `2 max_path / ds + 64 (max_bounces + 1) + 16` steps, `max_bounces`
-//! reflections, the end of the floor's range, or (if asked) the first floor hit.
+//! Termination: at most `2 max_path / ds + 64 (max_bounces + 1) + 16` steps (a step shortened
+//! by the gradient limit counts as its fraction of `ds`), `max_bounces` reflections, the end of
+//! the floor's range, or (if asked) the first floor hit.
 
 use super::profile::row_tol;
 use super::seafloor::Seafloor;
@@ -230,19 +236,32 @@ impl<'a> Tracer<'a> {
         Ok(())
     }
 
-    /// The right-hand side; on a table row the gradient of the layer below (`down`) or above.
-    fn deriv(&self, tx: f64, z: f64, tz: f64, down: bool) -> [f64; 4] {
-        let (c, g) = self.profile.eval_toward(z, down);
+    /// The right-hand side; on a table row the gradient of the layer below (`down`) or above;
+    /// in a step that ends on `end` (a row or the surface), the layer it comes through,
+    /// extended past `end` ([`SoundSpeed::eval_piece`]).
+    fn deriv(&self, tx: f64, z: f64, tz: f64, down: bool, end: Option<f64>) -> [f64; 4] {
+        let (c, g) = match end {
+            Some(r) => self.profile.eval_piece(z, r, down),
+            None => self.profile.eval_toward(z, down),
+        };
         [c * tx, c * tz, -g / (c * c), 1.0 / c]
     }
 
-    fn rk4(&self, tx: f64, p: &State, h: f64) -> State {
+    /// A classical RK4 step of length `h` from `p`; `end`: the depth of the table row or the
+    /// surface the step is meant to end on, if any. Its last stage, at p + h k3, may lie past
+    /// `end` by O(h^3), beyond [`row_tol`]: it must still see the layer the step comes
+    /// through, or the step straddles the gradient jump and the Snell invariant drifts by
+    /// O(h) (4e-5 at ds = 0.25 m in a Mackenzie profile).
+    fn rk4(&self, tx: f64, p: &State, h: f64, end: Option<f64>) -> State {
         let down = p.tz > 0.0;
-        let k1 = self.deriv(tx, p.z, p.tz, down);
-        let k2 = self.deriv(tx, p.z + 0.5 * h * k1[1], p.tz + 0.5 * h * k1[2], down);
-        let k3 = self.deriv(tx, p.z + 0.5 * h * k2[1], p.tz + 0.5 * h * k2[2], down);
+        let k1 = self.deriv(tx, p.z, p.tz, down, end);
+        let k2 = self.deriv(tx, p.z + 0.5 * h * k1[1], p.tz + 0.5 * h * k1[2], down, end);
+        let k3 = self.deriv(tx, p.z + 0.5 * h * k2[1], p.tz + 0.5 * h * k2[2], down, end);
         // the end of a step that lands on a row belongs to the layer it came through
-        let k4 = self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2], !down);
+        let k4 = match end {
+            Some(_) => self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2], down, end),
+            None => self.deriv(tx, p.z + h * k3[1], p.tz + h * k3[2], !down, None),
+        };
         let w = |i: usize| h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         State {
             x: p.x + w(0),
@@ -253,10 +272,16 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The step from `p`: `ds`, shortened to the longest path and, where the linear estimate
-    /// says the step would cross a profile row, to end on it (with the row).
-    fn step_length(&self, p: &State, o: &TraceOptions) -> (f64, Option<f64>) {
+    /// The step from `p`: `ds`, shortened to the longest path, to [`GRADIENT_STEP`] times the
+    /// speed's scale length c / |dc/dz| at `p`, and, where the linear estimate says the step
+    /// would cross a profile row, to end on it (with the row). The last value says whether
+    /// the gradient limit shortened the step.
+    fn step_length(&self, p: &State, o: &TraceOptions) -> (f64, Option<f64>, bool) {
         let h = o.ds.min(o.max_path - p.s);
+        let (c, g) = self.profile.eval_toward(p.z, p.tz > 0.0);
+        let hg = GRADIENT_STEP * c / g.abs();
+        let limited = hg < h;
+        let h = h.min(hg);
         let rows = self.profile.interfaces();
         if !rows.is_empty() && p.tz != 0.0 {
             let (c, _) = self.profile.eval(p.z);
@@ -270,18 +295,18 @@ impl<'a> Tracer<'a> {
             if let Some(&r) = next {
                 let hr = (r - p.z) / dzds;
                 if hr > 0.0 && hr < h {
-                    return (hr, Some(r));
+                    return (hr, Some(r), limited);
                 }
             }
         }
-        (h, None)
+        (h, None, limited)
     }
 
     /// An RK4 step of length about `h` from `p` that ends on the profile row `row` (if any):
     /// Newton iterations on the length (each a redone step) until the end depth is within
     /// [`row_tol`] of the row, where it is put exactly.
     fn step_to_row(&self, tx: f64, p: &State, h: f64, row: Option<f64>) -> (State, usize) {
-        let mut q = self.rk4(tx, p, h);
+        let mut q = self.rk4(tx, p, h, row);
         let Some(r) = row else {
             return (q, 1);
         };
@@ -302,7 +327,7 @@ impl<'a> Tracer<'a> {
                 break;
             }
             hh = next;
-            q = self.rk4(tx, p, hh);
+            q = self.rk4(tx, p, hh, row);
             steps += 1;
         }
         (q, steps)
@@ -311,17 +336,18 @@ impl<'a> Tracer<'a> {
     /// An RK4 step from `p` of length about `h` ending on the line through `anchor` with unit
     /// normal `n`: Newton iterations on the length (each a redone step) on the signed distance
     /// (q - anchor).n, whose derivative along the ray is c (t.n). Returns the end and the steps
-    /// taken.
+    /// taken. `end`: the surface's depth 0 when the line is the surface (the stages must not
+    /// overshoot it into the profile's held-constant extension above it), else None.
     fn land(
         &self,
         tx: f64,
         p: &State,
         h: f64,
-        anchor: (f64, f64),
-        n: (f64, f64),
+        (anchor, n): ((f64, f64), (f64, f64)),
+        end: Option<f64>,
     ) -> (State, usize) {
         let mut hh = h;
-        let mut q = self.rk4(tx, p, hh);
+        let mut q = self.rk4(tx, p, hh, end);
         let mut steps = 1;
         for _ in 0..6 {
             let d = (q.x - anchor.0) * n.0 + (q.z - anchor.1) * n.1;
@@ -337,7 +363,7 @@ impl<'a> Tracer<'a> {
                 break;
             }
             hh = next;
-            q = self.rk4(tx, p, hh);
+            q = self.rk4(tx, p, hh, end);
             steps += 1;
         }
         (q, steps)
@@ -360,7 +386,7 @@ impl<'a> Tracer<'a> {
                     self.floor.normal(i),
                 ),
             };
-            let (q, n) = self.land(tx, p, h, anchor, nrm);
+            let (q, n) = self.land(tx, p, h, (anchor, nrm), seg.is_none().then_some(0.0));
             steps += n;
             let Some(i) = seg else {
                 return Landing::Hit(q, seg, steps);
@@ -389,7 +415,7 @@ impl<'a> Tracer<'a> {
         }
         match last {
             Some((q, seg)) => Landing::Hit(q, seg, steps),
-            None => Landing::Pass(self.rk4(tx, p, h), steps + 1),
+            None => Landing::Pass(self.rk4(tx, p, h, None), steps + 1),
         }
     }
 
@@ -453,15 +479,22 @@ impl<'a> Tracer<'a> {
         let mut leg_norm = 1.0;
         let (xa, xb) = self.floor.x_range();
         let mut h_next: Option<f64> = None;
-        for _ in 0..o.max_steps() {
+        // the step cap, in steps of ds: a step shortened by the gradient limit counts as its
+        // fraction of ds (it is forced by the profile, and it advances the path)
+        let mut budget = o.max_steps() as f64;
+        while budget > 0.0 {
             if p.s >= o.max_path {
                 ray.end = RayEnd::PathLength;
                 break;
             }
             let (q, n) = match h_next.take() {
-                Some(hh) => (self.rk4(tx, &p, hh), 1),
+                Some(hh) => {
+                    budget -= 1.0;
+                    (self.rk4(tx, &p, hh, None), 1)
+                }
                 None => {
-                    let (h0, row) = self.step_length(&p, o);
+                    let (h0, row, limited) = self.step_length(&p, o);
+                    budget -= if limited { h0 / o.ds } else { 1.0 };
                     self.step_to_row(tx, &p, h0, row)
                 }
             };
@@ -598,6 +631,17 @@ impl<'a> Tracer<'a> {
     }
 }
 
+/// The longest step, as a fraction of the speed's scale length c / |dc/dz| where the step
+/// starts. That length bounds the ray's radius of curvature from below
+/// (R = c / (|dc/dz| cos theta)), and over a step of this fraction of it c changes by at most
+/// about that fraction of itself, so that the fourth-order expansion behind RK4 holds: in a
+/// steep linear profile (c0 = 1500 m/s, g = -74.5 1/s, c = 10 m/s on a floor at 20 m, scale
+/// length 0.13 m there) a fixed 0.25 m step would leap past the curvature of the ray, which is
+/// a circle (Jensen, Kuperman, Porter & Schmidt 2011, Computational Ocean Acoustics, 2nd ed.,
+/// Springer, ch. 3), and move it by metres off it. In the ocean's profiles (c about
+/// 1500 m/s, |dc/dz| at most about 1 1/s) the limit is 75 m or more.
+pub const GRADIENT_STEP: f64 = 0.05;
+
 /// Radius of the circular ray of a linear profile c = c0 + g z launched at depth `z0` and
 /// angle `theta0` (radians): R = c(z0) / (|g| cos theta0) (Snell's law in a linear profile).
 pub fn linear_arc_radius(c0: f64, g: f64, z0: f64, theta0: f64) -> f64 {
@@ -686,6 +730,7 @@ pub fn error_study(steps: &[f64]) -> Result<Vec<StepError>, RaytraceError> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::profile::Table;
     use super::*;
 
     fn deep() -> Seafloor {
@@ -763,6 +808,85 @@ mod tests {
         let coarse = TraceOptions { ds: 2000.0, ..o };
         let ray = t.trace(0.0, 1000.0, 11.0, &coarse).unwrap();
         assert!(ray.max_snell_drift > 1e-9, "{}", ray.max_snell_drift);
+    }
+
+    #[test]
+    fn steep_linear_gradient_follows_the_circle() {
+        // c = 1500 - 74.5 z: 10 m/s on a floor at 20 m, the scale length c / |g| 0.13 m there;
+        // the rays are circles centred where c would vanish, 20.134 m deep. A fixed 0.25 m step
+        // once threw a 10-degree ray from 19.75 m back up to 13.6 m.
+        let (c0, g) = (1500.0, -74.5);
+        let p = SoundSpeed::Linear { c0, g };
+        let floor = Seafloor::flat(0.0, 100.0, 20.0).unwrap();
+        let t = Tracer::new(&p, &floor).unwrap();
+        let o = TraceOptions {
+            ds: 0.25,
+            max_path: 360.0,
+            max_bounces: 10,
+            stop_at_bottom: true,
+            record: true,
+        };
+        let z0 = 10.0;
+        for deg in [1.5, 10.0, 25.0] {
+            let th = f64::to_radians(deg);
+            let ray = t.trace(0.0, z0, deg, &o).unwrap();
+            let r = linear_arc_radius(c0, g, z0, th);
+            let (xc, zc) = linear_arc_centre(c0, g, 0.0, z0, th);
+            assert!((zc - 1500.0 / 74.5).abs() < 1e-12);
+            let worst = ray
+                .path
+                .iter()
+                .map(|q| ((q[0] - xc).hypot(q[1] - zc) - r).abs() / r)
+                .fold(0.0, f64::max);
+            // steps of 0.05 c / |g| near the floor: 4e-8 R and a drift of 1.3e-6
+            assert!(worst < 1e-7, "{deg} deg: relative radius error {worst}");
+            assert!(ray.max_snell_drift < 1e-5, "{deg}: {}", ray.max_snell_drift);
+            // the first floor hit is where the circle meets z = 20
+            let h = ray.first_floor_hit().unwrap();
+            let x_exact = xc + (r * r - (20.0 - zc).powi(2)).sqrt();
+            assert!((h.x - x_exact).abs() < 1e-6, "{deg}: {} vs {x_exact}", h.x);
+            // the grazing angle is the tangent's: cos = (20 - zc) / r against the vertical
+            let graze = ((h.x - xc) / r).asin();
+            assert!(
+                (h.grazing - graze).abs() < 1e-5,
+                "{deg}: {} vs {graze}",
+                h.grazing
+            );
+        }
+    }
+
+    #[test]
+    fn mackenzie_surface_reflection_keeps_snell() {
+        // an upward ray reflects at the surface, where the depth term's gradient must not
+        // vanish: after the reflection the ray keeps the Snell invariant as a downward one does
+        let t = Table::new(
+            "t",
+            vec![0.0, 8.0, 12.0, 40.0],
+            vec![18.0, 16.0, 12.0, 11.0],
+            (-2.0, 30.0, ""),
+        )
+        .unwrap();
+        let s = Table::new("s", vec![0.0, 40.0], vec![35.0, 35.0], (25.0, 40.0, "")).unwrap();
+        let p = SoundSpeed::Mackenzie(super::super::Mackenzie::new(t, s));
+        let floor = Seafloor::flat(0.0, 100.0, 20.0).unwrap();
+        let tr = Tracer::new(&p, &floor).unwrap();
+        let o = TraceOptions {
+            ds: 0.25,
+            max_path: 360.0,
+            max_bounces: 10,
+            stop_at_bottom: true,
+            record: false,
+        };
+        let up = tr.trace(0.0, 10.0, -30.0, &o).unwrap();
+        assert_eq!(up.reflections[0].at, Surface::Sea);
+        assert!(up.first_floor_hit().is_some());
+        let down = tr.trace(0.0, 10.0, 30.0, &o).unwrap();
+        assert!(down.max_snell_drift < 1e-9, "{}", down.max_snell_drift);
+        assert!(up.max_snell_drift < 1e-9, "{}", up.max_snell_drift);
+        // the gradient at the surface is the one just below it
+        let (_, g0) = p.eval_toward(0.0, true);
+        let (_, g1) = p.eval(1e-6);
+        assert!((g0 - g1).abs() < 1e-6, "{g0} vs {g1}");
     }
 
     #[test]
