@@ -698,3 +698,79 @@ fn mackenzie_surface_reflected_rays_keep_snell() {
     let drift = v["max_snell_drift"].as_f64().unwrap();
     assert!(drift < 1e-9, "drift {drift} after a surface reflection");
 }
+
+#[test]
+fn typed_fan_limits_override_a_scenario_opening() {
+    let flat = flat_csv("flat_scenario.csv");
+    let f = flat.to_str().unwrap();
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        f,
+        "--opening",
+        "10",
+        "--centre-angle",
+        "10",
+        "--print-scenario",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sc = tmp("opening.toml");
+    std::fs::write(&sc, &o.stdout).unwrap();
+    let sc = sc.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut a = vec!["raytrace", "--scenario", sc, "--json"];
+        a.extend(extra);
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    assert_eq!(
+        run(&[])["run"]["angles_deg"],
+        serde_json::json!([5.0, 15.0])
+    );
+    let v = run(&["--angle-min", "2", "--angle-max", "5"]);
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([2.0, 5.0]));
+    assert!(v["parameters"].get("opening").is_none(), "{v}");
+    // one typed limit: the other is the scenario's (its default 25)
+    let v = run(&["--angle-min", "2"]);
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([2.0, 25.0]));
+    // limits with an opening, both typed: still refused
+    let o = cellsurf(&[
+        "raytrace",
+        "--scenario",
+        sc,
+        "--angle-min",
+        "2",
+        "--opening",
+        "4",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("give either --opening"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn rays_beyond_max_rays_and_bad_impedance_are_named() {
+    refused(
+        &["--rays", "10000000"],
+        &["--rays = 10000000 is more than --max-rays = 2000000 (default)"],
+    );
+    refused(
+        &["--rays", "50", "--max-rays", "40"],
+        &["--rays = 50 is more than --max-rays = 40:"],
+    );
+    let bad = tmp("bad_impedance.csv");
+    std::fs::write(&bad, "0,20\n50,20\n100,20,abc\n").unwrap();
+    refused(
+        &["--seafloor-csv", bad.to_str().unwrap()],
+        &[
+            "--seafloor-csv",
+            "bad_impedance.csv",
+            "line 3",
+            "impedance 'abc'",
+        ],
+    );
+}

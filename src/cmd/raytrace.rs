@@ -261,7 +261,7 @@ fn flag(id: &str, v: f64) -> String {
 fn fan_angles(a: &Args) -> Result<(f64, f64)> {
     let limits = conv::typed("angle_min") || conv::typed("angle_max");
     match (a.opening, a.centre_angle) {
-        (Some(_), Some(_)) if limits => {
+        (Some(_), _) | (_, Some(_)) if limits => {
             bail!("give either --opening with --centre-angle, or --angle-min/--angle-max")
         }
         (Some(o), Some(c)) => {
@@ -437,6 +437,7 @@ pub fn run(a: Args) -> Result<()> {
         ("min angle", "angle_min"),
         ("section azimuth", "azimuth"),
         ("section length", "length"),
+        ("max rays", "max_rays"),
     ]);
     conv::set_quiet(a.quiet);
     // before the scenario merge, which cannot hold a larger seed
@@ -444,7 +445,16 @@ pub fn run(a: Args) -> Result<()> {
         check_seed(&a)?;
     }
     let scenario = a.scenario.clone();
-    let a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
+    let mut a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
+    // limits typed on the command line replace a scenario's opening and centre, as a typed
+    // opening and centre replace its limits
+    if (conv::typed("angle_min") || conv::typed("angle_max"))
+        && !conv::typed("opening")
+        && !conv::typed("centre_angle")
+    {
+        a.opening = None;
+        a.centre_angle = None;
+    }
     check_seed(&a)?;
     if a.print_scenario {
         out!("{}", conv::scenario_text(&a, "raytrace")?)?;
@@ -476,6 +486,14 @@ pub fn run(a: Args) -> Result<()> {
         max_deg: amax,
         rays: a.rays,
     };
+    if !a.straight && a.max_rays < a.rays {
+        bail!(
+            "{} is more than {}: expected --rays at most --max-rays, the most rays in all \
+             (initial fan and shadow-edge bisection); raise --max-rays or lower --rays",
+            flag("rays", a.rays as f64),
+            flag("max_rays", a.max_rays as f64)
+        );
+    }
     let ins = if a.straight {
         fan.validate(&tracer)?;
         trace.validate()?;

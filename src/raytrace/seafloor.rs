@@ -136,7 +136,8 @@ impl Seafloor {
     }
 
     /// Reads `x, depth[, impedance]` rows (m, m, kg m^-2 s^-1; separators and comments as
-    /// [`super::Table::parse`]; a non-numeric first line is a header).
+    /// [`super::Table::parse`]; a non-numeric first line is a header). A third column that is
+    /// not a number, or a fourth column, is an error naming the line and the value.
     pub fn parse_csv(text: &str) -> Result<Self, RaytraceError> {
         let (mut x, mut z, mut imp) = (Vec::new(), Vec::new(), Vec::new());
         let mut any_imp = false;
@@ -145,9 +146,27 @@ impl Seafloor {
             let nums: Vec<Option<f64>> = cols.iter().map(|c| c.parse::<f64>().ok()).collect();
             match (nums.first(), nums.get(1)) {
                 (Some(Some(a)), Some(Some(b))) => {
+                    let bad = |reason: String| RaytraceError::Input {
+                        what: "seafloor csv".into(),
+                        reason: format!("line {}: '{line}': {reason}", n + 1),
+                    };
+                    if cols.len() > 3 {
+                        return Err(bad(format!(
+                            "{} columns, expected x, depth[, impedance]",
+                            cols.len()
+                        )));
+                    }
+                    let i = match cols.get(2) {
+                        Some(c) => Some(nums[2].ok_or_else(|| {
+                            bad(format!(
+                                "impedance '{c}' is not a number (kg m^-2 s^-1; leave the \
+                                 column out for no impedance)"
+                            ))
+                        })?),
+                        None => None,
+                    };
                     x.push(*a);
                     z.push(*b);
-                    let i = nums.get(2).copied().flatten();
                     any_imp |= i.is_some();
                     imp.push(i);
                 }
