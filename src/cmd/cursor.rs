@@ -164,7 +164,8 @@ pub struct Args {
     /// Output file: .png, the landscape (flooded below the sea level) next to the wind field.
     #[arg(long, value_name = "FILE")]
     out: Vec<PathBuf>,
-    /// Write the wind field as a PNG in the article's colour encoding (readable by --wind).
+    /// Write the wind field as a PNG in the article's colour encoding (readable by
+    /// --wind-image).
     #[arg(long, value_name = "FILE.png")]
     save_wind: Option<PathBuf>,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
