@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use cellsurf::cursor::display::{SeaLevel, flooded_fraction, quantile};
+use cellsurf::cursor::display::{SeaLevel, flooded_fraction, quantile, quantile_level};
 use cellsurf::cursor::stats::{
     self, NoiseModel, density_error, drift_formula, mean_direction, mean_step, step_covariance,
 };
@@ -725,6 +725,33 @@ fn sea_level_rules() {
     assert!(SeaLevel::MeanFraction(f64::NAN).validate().is_err());
 }
 
+#[test]
+fn sea_quantile_floods_that_fraction_of_the_cells() {
+    // distinct heights: round(Q n) cells exactly, for every Q, Q = 1 included
+    let h: Vec<u64> = (0..100u64).map(|i| (i * 37) % 100 * 3 + 5).collect();
+    for q in [0.0, 0.01, 0.25, 0.5, 0.87, 0.99, 1.0] {
+        let level = SeaLevel::Quantile(q).resolve(&h);
+        let f = flooded_fraction(&h, level);
+        assert_eq!(f, (q * 100.0).round() / 100.0, "Q = {q}: level {level}");
+    }
+    assert_eq!(SeaLevel::Quantile(1.0).resolve(&h), 303.0);
+    assert_eq!(SeaLevel::Quantile(0.0).resolve(&h), 5.0);
+    // 4 cells, Q = 0.5: two of them (the nearest rank round(Q (n - 1)) flooded one)
+    assert_eq!(
+        flooded_fraction(&[7, 1, 9, 4], quantile_level(&[7, 1, 9, 4], 0.5)),
+        0.5
+    );
+    // ties are flooded together, to the count nearer round(Q n) (the lower one on a tie)
+    let t = [1u64, 2, 2, 2, 2, 3, 4, 5, 6, 7];
+    let frac = |q: f64| flooded_fraction(&t, quantile_level(&t, q));
+    assert_eq!(frac(0.1), 0.1);
+    assert_eq!(frac(0.2), 0.1); // the run 2,2,2,2 (cells 2-5): 1 cell or 5, 1 is nearer 2
+    assert_eq!(frac(0.3), 0.1); // 1 or 5: a tie, the lower
+    assert_eq!(frac(0.4), 0.5);
+    assert_eq!(frac(0.5), 0.5);
+    assert_eq!(frac(1.0), 1.0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Drawing.
 
@@ -804,6 +831,37 @@ mod cli {
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert!(v["density_error"].is_null());
         assert_eq!(v["height_total"], 3000);
+    }
+
+    #[test]
+    fn sea_quantile_floods_that_fraction() {
+        // 10 x 10 cells of about 1000 visits: Q = 1 floods every cell (it flooded 99 of them),
+        // Q = 0 none; Q = 0.5 half of them up to a run of equal heights at the 50th cell
+        // (here two cells of 994 visits: 49 flooded, the lower count on a tie)
+        for (q, want) in [
+            ("1", 1.0),
+            ("0.75", 0.75),
+            ("0.5", 0.49),
+            ("0.25", 0.25),
+            ("0", 0.0),
+        ] {
+            let out = cellsurf(&[
+                "--steps",
+                "100000",
+                "--size",
+                "10",
+                "--sea-quantile",
+                q,
+                "--json",
+            ]);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            assert_eq!(v["flooded_fraction"], want, "Q = {q}: {v}");
+        }
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub enum SeaLevel {
     Height(f64),
     /// A fraction of the mean height (the default is 0.5).
     MeanFraction(f64),
-    /// The height below which this fraction of the cells lies (0 to 1).
+    /// Flood this fraction of the cells (0 to 1): the level of [`quantile_level`].
     Quantile(f64),
 }
 
@@ -85,12 +85,50 @@ impl SeaLevel {
                 let n = heights.len().max(1) as f64;
                 f * heights.iter().sum::<u64>() as f64 / n
             }
-            SeaLevel::Quantile(q) => quantile(heights, q),
+            SeaLevel::Quantile(q) => quantile_level(heights, q),
         }
     }
 }
 
-/// The `q`-quantile of `heights` (nearest rank; 0 for an empty slice).
+/// The sea level that floods the fraction `q` of the cells (cells strictly below it are water):
+/// the round(q n) lowest of the n cells. The level is the height of the lowest cell left dry,
+/// or the highest height + 1 when every cell is flooded (q n rounds to n), so that
+/// [`flooded_fraction`] gives round(q n) / n exactly. Cells of equal height are flooded
+/// together (a level cannot split them): where a run of equal heights straddles the
+/// round(q n)-th cell, the level floods the whole run or none of it, whichever count is
+/// nearer to round(q n) (none of it on a tie). 0 for an empty slice; `q` outside [0, 1] is
+/// taken as the nearer end ([`SeaLevel::validate`] refuses it).
+pub fn quantile_level(heights: &[u64], q: f64) -> f64 {
+    let n = heights.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let mut v = heights.to_vec();
+    v.sort_unstable();
+    let k = ((q.clamp(0.0, 1.0) * n as f64).round() as usize).min(n);
+    let level_for = |count: usize| {
+        if count == n {
+            v[n - 1] as f64 + 1.0
+        } else {
+            v[count] as f64
+        }
+    };
+    if k == n {
+        return level_for(n);
+    }
+    let u = v[k];
+    // the cells below the run of heights equal to v[k], and below its end
+    let below = v.partition_point(|&h| h < u);
+    let through = v.partition_point(|&h| h <= u);
+    if k - below <= through - k {
+        level_for(below)
+    } else {
+        level_for(through)
+    }
+}
+
+/// The `q`-quantile of `heights` (nearest rank, round(q (n - 1)); 0 for an empty slice): the
+/// colour map's top. The sea level of [`SeaLevel::Quantile`] is [`quantile_level`].
 pub fn quantile(heights: &[u64], q: f64) -> f64 {
     if heights.is_empty() {
         return 0.0;
