@@ -458,7 +458,7 @@ mod tests {
             (16, 8, 3, (4, 6), Choose::Patches, 6, fbm, 0.0, 5.0, 17),
             (16, 8, 2, (4, 5), Choose::Patches, 0, fbm, 30.0, 3.0, 32),
             (9, 7, 2, (5, 6), Choose::Patches, 4, band, -70.0, 1.0, 40),
-            (12, 10, 1, (3, 3), Choose::Same, 0, fbm, 0.0, 0.0, 2),
+            (12, 10, 1, (3, 3), Choose::Same, 0, fbm, 0.0, 0.0, 3),
         ];
         for (nx, ny, n, (mx, my), choose, blend, relief, angle, steering, grid) in cases {
             let m = Mosaic::new(tiles(nx, ny, n), mx, my, choose, 7, blend).unwrap();
