@@ -731,9 +731,11 @@ fn typed_fan_limits_override_a_scenario_opening() {
     let v = run(&["--angle-min", "2", "--angle-max", "5"]);
     assert_eq!(v["run"]["angles_deg"], serde_json::json!([2.0, 5.0]));
     assert!(v["parameters"].get("opening").is_none(), "{v}");
-    // one typed limit: the other is the scenario's (its default 25)
+    // one typed limit: the other is the scenario fan's (10 -+ 10 / 2), not the default 25
     let v = run(&["--angle-min", "2"]);
-    assert_eq!(v["run"]["angles_deg"], serde_json::json!([2.0, 25.0]));
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([2.0, 15.0]));
+    let v = run(&["--angle-max", "12"]);
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([5.0, 12.0]));
     // limits with an opening, both typed: still refused
     let o = cellsurf(&[
         "raytrace",

@@ -149,8 +149,7 @@ fn outputs_are_checked_before_the_run() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("--size = 128x5 is out of range"), "{e}");
     assert!(!e.contains("panicked"), "{e}");
-    // `.npy`: the sidecar and each volume field's file are checked too, before the run (a
-    // run long enough to tell: 20,000 steps of 128 x 64 take seconds)
+    // `.npy`: the sidecar and each volume field's file are checked too, before the run
     for (blocked, fields) in [
         ("blk.json", "elevation"),
         ("blk_porosity.npy", "elevation,porosity"),
@@ -159,7 +158,6 @@ fn outputs_are_checked_before_the_run() {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let out = tmp("blk.npy");
-        let t = std::time::Instant::now();
         let o = cellsurf(&[
             "ripple",
             "--size",
@@ -173,11 +171,9 @@ fn outputs_are_checked_before_the_run() {
         ]);
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{e}");
+        // (the words of the check before the run; a write failing after it says "writing")
         assert!(e.contains(&format!("its file {}", dir.display())), "{e}");
-        assert!(
-            t.elapsed().as_secs_f64() < 1.0,
-            "refused after the run: {e}"
-        );
+        assert!(!e.contains("writing"), "{e}");
         assert!(!out.exists(), "an output was written");
         std::fs::remove_dir_all(&dir).unwrap();
     }

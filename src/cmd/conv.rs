@@ -169,6 +169,12 @@ pub fn plain_parse_error(command: &mut clap::Command, e: clap::Error) -> clap::E
         return e;
     }
     let expected = match e.source() {
+        Some(s)
+            if s.downcast_ref::<std::num::ParseIntError>()
+                .is_some_and(|e| matches!(e.kind(), std::num::IntErrorKind::PosOverflow)) =>
+        {
+            "a smaller whole number (the option's range is in --help)"
+        }
         Some(s) if s.is::<std::num::ParseIntError>() => "a whole number, 0 or more",
         Some(s) if s.is::<std::num::ParseFloatError>() => "a number (e.g. 0.5 or 1e-3)",
         _ => return e,
@@ -205,6 +211,30 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
         return Err(format!("'{s}' is too large: at most {}", u64::MAX));
     }
     Ok(v as u64)
+}
+
+/// [`parse_count`] for an option held in a narrower type, refusing a count above `max`.
+fn parse_count_at_most<T: TryFrom<u64>>(s: &str, max: u64) -> Result<T, String> {
+    let v = parse_count(s)?;
+    T::try_from(v)
+        .ok()
+        .filter(|_| v <= max)
+        .ok_or_else(|| format!("'{s}' is too large: at most {max}"))
+}
+
+/// [`parse_count`] for a `usize` option.
+pub fn parse_usize(s: &str) -> Result<usize, String> {
+    parse_count_at_most(s, usize::MAX as u64)
+}
+
+/// [`parse_count`] for a `u32` option.
+pub fn parse_u32(s: &str) -> Result<u32, String> {
+    parse_count_at_most(s, u64::from(u32::MAX))
+}
+
+/// [`parse_count`] for a `u16` option (a port).
+pub fn parse_u16(s: &str) -> Result<u16, String> {
+    parse_count_at_most(s, u64::from(u16::MAX))
 }
 
 /// Ends the program with the run's `result`: a write to a closed standard output (`| head`)

@@ -132,7 +132,7 @@ pub struct Args {
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
     wind_radius: Option<f64>,
     /// Rotating: arms of each star, 0 to 12 (0: round mounds) [default: 4].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = conv::parse_u32)]
     wind_arms: Option<u32>,
     /// Grid size in cells, W or WxH, each side 3 or more [default: 240x240 (the article
     /// does not give its grid), or the wind image's size].

@@ -83,7 +83,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Variant::Article)]
     variant: Variant,
     /// Werner: hop length L of a slab, in cells (1 to 10^6).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = conv::parse_u32)]
     hop: u32,
     /// Dune-body threshold in cell widths: cells higher than this form dune bodies, the
     /// others are bare ground (finite, at least 0).
@@ -97,7 +97,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
     /// Frames in the GIF (1 to 2000).
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]

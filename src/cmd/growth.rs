@@ -69,13 +69,13 @@ pub struct GrowArgs {
     #[arg(long)]
     sampler: Option<SamplerKind>,
     /// CA: minimum occupied neighbours for growth, cycled over timesteps (1 = Fig. 3; 1,2 = Fig. 4).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = conv::parse_usize)]
     ca_rule: Option<Vec<usize>>,
     /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
     #[arg(long, value_parser = conv::parse_seed)]
     seed: Option<u64>,
     /// Number of evenly spaced times at which observables are recorded (for a .csv output).
-    #[arg(long)]
+    #[arg(long, value_parser = conv::parse_usize)]
     series: Option<usize>,
     /// Output file, repeatable; the extension picks the format: .png (the snapshots), .gif
     /// (an animation), .csv (the observable time series, parameters in '#' header lines).
@@ -88,7 +88,7 @@ pub struct GrowArgs {
     #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
     /// Frames in the GIF after the initial state (which the GIF also shows), 1 to 2000.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
@@ -127,7 +127,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value = "figures")]
     out_dir: PathBuf,
     /// growth only: independent seeds per curve, 3 to 10000.
-    #[arg(long, default_value_t = figures::CONVERGE_SEEDS)]
+    #[arg(long, default_value_t = figures::CONVERGE_SEEDS, value_parser = conv::parse_usize)]
     seeds: usize,
     /// growth only: print the curves as JSON.
     #[arg(long)]

@@ -78,7 +78,7 @@ pub struct Args {
     #[arg(long)]
     centre_angle: Option<f64>,
     /// Rays of the initial fan (more are added at shadow edges).
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, value_parser = conv::parse_usize)]
     rays: usize,
     /// Sound-speed profile.
     #[arg(long, value_enum, default_value_t = ProfileKind::Isovelocity)]
@@ -123,19 +123,19 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0)]
     azimuth: f64,
     /// Seed of the generated ripple field.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = conv::parse_count)]
     seed: u64,
     /// Ray step (arc length), m.
     #[arg(long, default_value_t = 0.25)]
     ds: f64,
     /// Most reflections a ray (surface and floor).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = conv::parse_usize)]
     max_bounces: usize,
     /// Longest ray path, m [default: 3 x (section span + water depth)].
     #[arg(long)]
     max_path: Option<f64>,
     /// Most rays in all (initial fan and shadow-edge bisection).
-    #[arg(long, default_value_t = 2_000_000)]
+    #[arg(long, default_value_t = 2_000_000, value_parser = conv::parse_usize)]
     max_rays: usize,
     /// Straight-line (line-of-sight) visibility instead of refracted rays: the vertices in view
     /// of S whose direction from S lies within the fan of launch angles.
@@ -452,6 +452,15 @@ pub fn run(a: Args) -> Result<()> {
         && !conv::typed("opening")
         && !conv::typed("centre_angle")
     {
+        // a limit not typed keeps the scenario's fan: centre -+ opening / 2
+        if let (Some(o), Some(c)) = (a.opening, a.centre_angle) {
+            if !conv::typed("angle_min") {
+                a.angle_min = c - o / 2.0;
+            }
+            if !conv::typed("angle_max") {
+                a.angle_max = c + o / 2.0;
+            }
+        }
         a.opening = None;
         a.centre_angle = None;
     }

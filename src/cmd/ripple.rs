@@ -51,13 +51,13 @@ pub struct Args {
     #[arg(long, value_name = "NXxNY")]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize)]
     nx: Option<usize>,
     /// Old spelling of the y part of --size (kept for one release).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize)]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
-    #[arg(long)]
+    #[arg(long, value_parser = conv::parse_usize)]
     layers: Option<usize>,
     /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005].
     #[arg(long)]
@@ -170,7 +170,7 @@ pub struct Args {
     #[arg(long, value_parser = parse_seed, allow_hyphen_values = true)]
     seed: Option<u64>,
     /// Steps at which to keep the elevation, comma-separated [default: 0 and the last step].
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
     snapshots: Option<Vec<u64>>,
     /// Fields to write (comma-separated): elevation, grain_size, porosity, density,
     /// sound_speed, impedance [default: all; without porosity for apl-uw]. `cellsurf tile` and
@@ -498,7 +498,7 @@ pub fn model_stuck_reason(p: &RippleParams, speed: f64, beta_flag: &str) -> Stri
         format!(
             "the model's rules carry no grain a bin on a flat bed (the flat-bed measurement \
              moved none): they move the finest grains from {finest:.3} m/s and the median grain \
-             from {median:.3} m/s (--bin-size, --layer-thickness and the hop length set that \
+             from {median:.3} m/s (the bin size, the layer thickness and the hop length set that \
              threshold)"
         )
     }

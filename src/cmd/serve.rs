@@ -12,7 +12,7 @@ use cellsurf::serve::{ServerConfig, serve};
 #[derive(Parser, Debug)]
 pub struct Args {
     /// Port to listen on (0: any free port; the address is printed on stdout).
-    #[arg(long, default_value_t = 8080)]
+    #[arg(long, default_value_t = 8080, value_parser = super::conv::parse_u16)]
     port: u16,
     /// Address to bind (an IP address, or localhost): loopback unless you mean to share the
     /// page on a network.

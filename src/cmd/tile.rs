@@ -55,13 +55,13 @@ pub struct Args {
     #[arg(long, value_name = "NXxNY")]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize)]
     nx: Option<usize>,
     /// Old spelling of the y part of --size (kept for one release).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize)]
     ny: Option<usize>,
     /// --generate: mean sand thickness, automata per column [default: the scenario's, else 30].
-    #[arg(long)]
+    #[arg(long, value_parser = conv::parse_usize)]
     layers: Option<usize>,
     /// --generate: steps of each run, raised to the largest --snapshots step (`1e4` accepted)
     /// [default: the scenario's, else 10000].
@@ -75,10 +75,10 @@ pub struct Args {
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
     seeds: Option<Vec<u64>>,
     /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
     snapshots: Option<Vec<u64>>,
     /// Tiles along x and y, MXxMY; instead of --extent [default: 3x3].
     #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
@@ -90,7 +90,7 @@ pub struct Args {
     #[arg(long, default_value = "same")]
     choose: String,
     /// Cross-fade band at the tile edges, bins (0 = none).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = conv::parse_usize)]
     blend: usize,
     /// Volume field to write beneath the surface (grain_size, porosity, density, sound_speed,
     /// impedance).
@@ -125,7 +125,7 @@ pub struct Args {
     steering: f64,
     /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
-    #[arg(long)]
+    #[arg(long, value_parser = conv::parse_usize)]
     dune_grid: Option<usize>,
     /// Output file; the extension picks the format: .nc (NetCDF-3), .npy (NAME.npy the
     /// elevation, NAME_FIELD.npy the volume, NAME.json the parameters) or .zarr (a Zarr v3
@@ -152,7 +152,7 @@ pub struct Args {
     #[arg(long, value_name = "STORE.zarr", conflicts_with = "out")]
     check: Option<PathBuf>,
     /// Seed of the patch choice and the dune synthesis (and of --generate without --seeds).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = conv::parse_count)]
     seed: u64,
     /// Print the size and the disk space needed, then stop.
     #[arg(long)]
@@ -544,6 +544,9 @@ pub fn run(a: Args) -> Result<()> {
     {
         bail!("--chunk-tiles = {kx}x{ky} is out of range: expected at least 1x1 tiles per chunk");
     }
+    if a.mosaic.is_some() && a.extent.is_some() {
+        bail!("--mosaic and --extent both given: expected one of them");
+    }
     let mosaic_given = match &a.mosaic {
         Some(m) => {
             let (mx, my) = parse_pair::<usize>("mosaic", m, "3x3")?;
@@ -620,9 +623,6 @@ pub fn run(a: Args) -> Result<()> {
                 "--current-angle = {c} is out of range: expected -360 to 360 degrees (counter-clockwise from east)"
             );
         }
-    }
-    if a.mosaic.is_some() && a.extent.is_some() {
-        bail!("--mosaic and --extent both given: expected one of them");
     }
     let (tiles, ripple_record) = pool(&a, quiet)?;
     let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);

@@ -34,7 +34,7 @@ pub struct Args {
     steps: u64,
     /// Number of particles N (notebook N_particles = 2**16 * 8), 1 to 2^30; 24 bytes of memory
     /// each (48 while they are re-sorted).
-    #[arg(long, default_value_t = WindParams::default().particles)]
+    #[arg(long, default_value_t = WindParams::default().particles, value_parser = conv::parse_usize)]
     particles: usize,
     /// Histogram size in cells, N or NxN (square, N from 1 to 4096).
     #[arg(long, value_name = "N", alias = "bins", default_value_t = Size::square(WindParams::default().bins))]
@@ -58,7 +58,7 @@ pub struct Args {
     #[arg(long, default_value_t = WindParams::default().seed, value_parser = conv::parse_seed)]
     seed: u64,
     /// Worker threads; 0 = all cores. The results do not depend on it.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = conv::parse_usize)]
     threads: usize,
     /// Output file, repeatable; the extension picks the format: .png (a picture of the final
     /// height field), .npy (the final height field, N x N float64, index [ix, iy] as the

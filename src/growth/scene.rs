@@ -269,7 +269,7 @@ fn whole_numbers(table: &mut toml::Table) -> Result<(), SceneError> {
             // (below 2^63: the largest TOML integer is 2^63 - 1)
             if !((0.0..9_223_372_036_854_775_808.0).contains(&f) && f.fract() == 0.0) {
                 return Err(SceneError::Toml(format!(
-                    "`{key}` = {f}: expected a whole number, 0 or more (e.g. 10000 or 1e4)"
+                    "`{key}` = {f}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)"
                 )));
             }
             *v = toml::Value::Integer(f as i64);

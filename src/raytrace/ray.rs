@@ -284,7 +284,7 @@ impl<'a> Tracer<'a> {
         let h = h.min(hg);
         let rows = self.profile.interfaces();
         if !rows.is_empty() && p.tz != 0.0 {
-            let (c, _) = self.profile.eval(p.z);
+            // (c is continuous across rows: the speed of the layer entered is the speed here)
             let dzds = c * p.tz;
             let tol = row_tol(p.z);
             let next = if dzds > 0.0 {
