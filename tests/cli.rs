@@ -223,11 +223,11 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
     std::fs::remove_dir_all(dir.parent().unwrap()).ok();
 }
 
-/// A disc of the default size sits on the middle cell of a lattice with odd sides; where the
-/// default holds no cell (a hex lattice whose middle row is shifted half a cell), the error
-/// names `--start`, which the user never typed.
+/// A disc of the default size sits on the middle cell of a lattice with odd sides, and holds
+/// the cell nearest its centre where it falls between cells (a hex lattice whose middle row is
+/// shifted half a cell); a start that holds no cell is refused by its flag.
 #[test]
-fn a_default_disc_runs_on_odd_sides_and_an_empty_one_names_start() {
+fn a_default_disc_runs_on_every_size_and_an_empty_start_is_named() {
     for size in ["21", "21x20", "20x21"] {
         let args = [
             "grow",
@@ -245,13 +245,27 @@ fn a_default_disc_runs_on_odd_sides_and_an_empty_one_names_start() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    let out = cellsurf(&["grow", "--size", "6", "--shape", "disc", "--steps", "10"]);
+    // a hex lattice whose middle row is shifted half a cell: the disc of diameter 1 falls
+    // between two cells and holds the one nearest its centre, a one-cell seed
+    for size in ["6", "10", "10x14"] {
+        let out = cellsurf(&[
+            "grow", "--size", size, "--shape", "disc", "--events", "1", "--json",
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{size}: {err}");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        // the seed's one cell and the one event's
+        assert_eq!(
+            (&v["occupied"], &v["accepted"]),
+            (&2.into(), &1.into()),
+            "{size}: {v}"
+        );
+    }
+    // a default the run cannot use is named with its flag
+    let out = cellsurf(&["grow", "--shape", "flat", "--start", "0"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(
-        err.contains("--start = 1 (the default) is out of range: the initial disc holds no cell"),
-        "{err}"
-    );
+    assert!(err.contains("--start = 0"), "{err}");
 }
 
 /// A flag the run does not use is warned about, naming the flag and why (growth scenes and

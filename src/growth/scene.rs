@@ -606,6 +606,13 @@ impl SceneConfig {
             }
             Shape::Flat => g.occupy_where(|_, y| y < s),
         }
+        // A square or disc narrower than the cells' spacing, centred between cells (on the
+        // shifted middle row of a hex lattice), holds at least the cell nearest its centre:
+        // a seed of one cell, as a point.
+        if g.occupied() == 0 && matches!(self.shape, Shape::Square | Shape::Disc) {
+            let c = g.lattice().nearest_cell(cx, cy);
+            g.occupy(c)?;
+        }
         if g.occupied() == 0 {
             return Err(range(
                 "start",
