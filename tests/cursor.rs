@@ -792,9 +792,20 @@ mod cli {
             .unwrap()
     }
 
+    /// The JSON summary of a run that must succeed.
+    fn json(args: &[&str]) -> serde_json::Value {
+        let out = cellsurf(args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    }
+
     #[test]
     fn json_summary_has_steps_equal_to_height_total() {
-        let out = cellsurf(&[
+        let v = json(&[
             "--steps",
             "30000",
             "--size",
@@ -803,12 +814,6 @@ mod cli {
             "uniform",
             "--json",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["steps"], 30000);
         assert_eq!(v["height_total"], 30000);
         assert!(v["density_error"].as_f64().unwrap() > 0.0);
@@ -845,7 +850,7 @@ mod cli {
             ("0.25", 0.25),
             ("0", 0.0),
         ] {
-            let out = cellsurf(&[
+            let v = json(&[
                 "--steps",
                 "100000",
                 "--size",
@@ -854,12 +859,6 @@ mod cli {
                 q,
                 "--json",
             ]);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-            let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
             assert_eq!(v["flooded_fraction"], want, "Q = {q}: {v}");
         }
     }
