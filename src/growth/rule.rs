@@ -54,6 +54,8 @@ pub struct Sticking {
     ln_p: [f64; 9],
     /// `ratio[r][b] = (b/r)^n` for `b <= r`.
     ratio: [[f64; 9]; 9],
+    /// `inv_ratio[r][b] = 1 / ratio[r][b]` where that ratio is a normal float (else 0).
+    inv_ratio: [[f64; 9]; 9],
 }
 
 impl Sticking {
@@ -77,12 +79,15 @@ impl Sticking {
                 *x = (n * (b as f64 / r as f64).ln()).exp();
             }
         }
+        // (a subnormal ratio's reciprocal may overflow: those classes keep the division)
+        let inv_ratio = ratio.map(|row| row.map(|x| if x.is_normal() { 1.0 / x } else { 0.0 }));
         Ok(Sticking {
             n,
             z,
             p,
             ln_p,
             ratio,
+            inv_ratio,
         })
     }
 
@@ -119,6 +124,12 @@ impl Sticking {
     #[inline]
     pub fn ratio(&self, r: usize, b: usize) -> f64 {
         self.ratio[r][b]
+    }
+    /// `(r/b)^n`, the reciprocal of [`Sticking::ratio`], where that ratio is a normal float;
+    /// 0 where it is subnormal or zero (divide by the ratio there).
+    #[inline]
+    pub fn inv_ratio(&self, r: usize, b: usize) -> f64 {
+        self.inv_ratio[r][b]
     }
 }
 
@@ -245,6 +256,28 @@ mod tests {
         assert!(s.ratio(6, 5) >= 0.0 && s.ratio(6, 5) < 1e-300);
         let s = Sticking::new(50.0, 6).unwrap();
         assert!((s.ratio(3, 2) - (2.0f64 / 3.0).powf(50.0)).abs() < 1e-20);
+    }
+
+    #[test]
+    fn eq4_inverse_ratios_are_reciprocals_where_the_ratio_is_normal() {
+        // n = 2: (r/b)^2 within an ulp or two; n = 1e4: (1/6)^1e4 underflows to 0 and
+        // (5/6)^1e4 = 1e-792 too, so their reciprocals are 0 (the sampler divides there).
+        let s = Sticking::new(2.0, 6).unwrap();
+        for r in 1..=6 {
+            for b in 1..=r {
+                let want = (r as f64 / b as f64).powi(2);
+                assert!((s.inv_ratio(r, b) - want).abs() <= 4.0 * f64::EPSILON * want);
+            }
+            assert_eq!(s.inv_ratio(r, r), 1.0);
+        }
+        let s = Sticking::new(1e4, 6).unwrap();
+        assert_eq!(s.inv_ratio(6, 6), 1.0);
+        assert_eq!(s.inv_ratio(6, 5), 0.0);
+        assert_eq!(s.inv_ratio(6, 1), 0.0);
+        // a subnormal ratio: (1/2)^1060 = 2^-1060 is below the smallest normal 2^-1022
+        let s = Sticking::new(1060.0, 4).unwrap();
+        assert!(s.ratio(2, 1) > 0.0 && !s.ratio(2, 1).is_normal());
+        assert_eq!(s.inv_ratio(2, 1), 0.0);
     }
 
     #[test]
