@@ -85,9 +85,10 @@ fn assert_consistent(g: &Growth) {
 }
 
 /// Steps the exact sampler (limit `f64::MAX`) for up to `events` acceptances, checking after
-/// each call: the clock is never NaN and never goes back; it is `+inf` exactly when
-/// `ClockOverflow` is reported; the accepted site's class is not negligible next to the top
-/// class (`(b / top)^n >= 1e-300`). Returns the accepted `(b, top)` pairs and the last outcome.
+/// each call: the clock is never NaN and never goes back; it never overflows (an acceptance
+/// past the largest `f64` lies after the limit: the run stops there, with `Limit`); the
+/// accepted site's class is not negligible next to the top class (`(b / top)^n >= 1e-300`).
+/// Returns the accepted `(b, top)` pairs and the last outcome.
 fn exact_events(g: &mut Growth, seed: u64, events: usize) -> (Vec<(usize, usize)>, Outcome) {
     let mut rng = stream(seed);
     let n = g.rule().n();
@@ -100,11 +101,7 @@ fn exact_events(g: &mut Growth, seed: u64, events: usize) -> (Vec<(usize, usize)
         let t = g.time();
         assert!(!t.is_nan(), "n = {n}: clock is NaN after {o:?}");
         assert!(t >= before, "n = {n}: clock went back from {before} to {t}");
-        assert_eq!(
-            t.is_infinite(),
-            o == Outcome::ClockOverflow,
-            "n = {n}: clock {t} with outcome {o:?}"
-        );
+        assert!(t.is_finite(), "n = {n}: clock {t} with outcome {o:?}");
         last = o;
         match o {
             Outcome::Accepted(c) => {
@@ -124,7 +121,10 @@ fn exact_events(g: &mut Growth, seed: u64, events: usize) -> (Vec<(usize, usize)
                 assert_eq!(g.occupied(), g.lattice().len());
                 break;
             }
-            Outcome::ClockOverflow => break,
+            Outcome::Limit => {
+                assert_eq!(t, f64::MAX, "n = {n}");
+                break;
+            }
             o => panic!("n = {n}: unexpected {o:?}"),
         }
         if k % 200 == 0 {
@@ -154,9 +154,10 @@ fn exact_sampler_is_sound_at_every_n() {
                 assert_eq!(g.time(), g.accepted() as f64);
             }
             if n <= 50.0 {
-                // (1/6)^50 = 1e-39: the wait stays far below f64::MAX; no overflow.
-                assert_ne!(last, Outcome::ClockOverflow, "n = {n}, {name}");
-                assert!(g.time().is_finite());
+                // (1/6)^50 = 1e-39: the wait stays far below f64::MAX; the limit is never
+                // reached.
+                assert_ne!(last, Outcome::Limit, "n = {n}, {name}");
+                assert!(g.time() < 1e100);
             }
         }
     }
@@ -167,7 +168,8 @@ fn n_1e4_accepts_only_the_maximal_class() {
     // n = 1e4: (5/6)^n = e^-1823 underflows f64, so the classes differ by far more than
     // 1e-300 and only b = top may be accepted. From the porous start the top class is 6
     // (p = 1, finite waits) until every fully enclosed hole is filled (filling one can raise a
-    // neighbour to b = 6); then the next wait is about e^1823 picks: ClockOverflow.
+    // neighbour to b = 6); then the next wait is about e^1823 picks, past the largest f64:
+    // the run reaches its limit of f64::MAX timesteps.
     let mut g = porous_start(1e4);
     let initial_full = g
         .surface()
@@ -182,10 +184,10 @@ fn n_1e4_accepts_only_the_maximal_class() {
         assert_eq!(b, top);
         assert_eq!(b, 6);
     }
-    assert_eq!(last, Outcome::ClockOverflow);
-    assert_eq!(g.time(), f64::INFINITY);
+    assert_eq!(last, Outcome::Limit);
+    assert_eq!(g.time(), f64::MAX);
     assert!(top_class(&g) < 6);
-    // Once overflowed, the run cannot go on: nothing more is accepted.
+    // Nothing more is accepted before that limit.
     let occ = g.occupied();
     let o = g.step_exact(&mut stream(4), f64::MAX);
     assert!(!matches!(o, Outcome::Accepted(_)), "{o:?}");
@@ -208,39 +210,47 @@ fn n_1000_picks_the_top_classes_and_keeps_a_finite_clock_while_it_can() {
 }
 
 #[test]
-fn clock_overflow_is_reported_with_a_finite_limit() {
+fn a_wait_past_the_largest_f64_reaches_every_finite_limit() {
     // Square start on the hexagonal lattice at n = 1e4: the top class has b <= 3, and
-    // p = (1/2)^1e4 = e^-6931 at best: the first wait overflows f64.
+    // p = (1/2)^1e4 = e^-6931 at best: the first acceptance lies past the largest f64, so
+    // after every finite limit. The run reaches its limit with nothing accepted, as the
+    // rejection sampler does (below); only a run without a limit reports the overflow.
     let mut g = square_start(1e4);
     let occ = g.occupied();
     let o = g.step_exact(&mut stream(1), f64::MAX);
-    assert_eq!(o, Outcome::ClockOverflow);
-    assert_eq!(g.time(), f64::INFINITY);
+    assert_eq!(o, Outcome::Limit);
+    assert_eq!(g.time(), f64::MAX);
     assert_eq!(g.accepted(), 0);
     assert_eq!(g.occupied(), occ);
     assert_consistent(&g);
+    // Continued: still nothing before the limit; then without one, the overflow.
+    assert_eq!(g.step_exact(&mut stream(1), f64::MAX), Outcome::Limit);
+    assert_eq!(
+        g.step_exact(&mut stream(1), f64::INFINITY),
+        Outcome::ClockOverflow
+    );
+    assert_eq!(g.time(), f64::INFINITY);
     // Once overflowed, nothing more is accepted.
     assert!(!matches!(
         g.step_exact(&mut stream(1), f64::MAX),
         Outcome::Accepted(_)
     ));
     assert_eq!(g.occupied(), occ);
-    // n = 1000: sites with b = 3 give waits of about 2^1000 = 1e301 picks (finite); once
-    // only b <= 2 is left, (1/3)^1000 = e^-1099 overflows. run_exact must end with
-    // ClockOverflow, never loop or return NaN.
-    let mut g = square_start(1000.0);
-    assert_eq!(
-        g.run_exact(&mut stream(2), f64::MAX),
-        Outcome::ClockOverflow
-    );
-    assert_eq!(g.time(), f64::INFINITY);
     assert_consistent(&g);
-    // A finite wait beyond the limit is a pause (Limit); an infinite one is still an overflow.
-    let mut g = square_start(1e4);
-    assert_eq!(g.run_exact(&mut stream(3), 1e12), Outcome::ClockOverflow);
+    // n = 1000: sites with b = 3 give waits of about 2^1000 = 1e301 picks (finite); once
+    // only b <= 2 is left, (1/3)^1000 = e^-1099 overflows. run_exact accepts while the
+    // waits are finite, then stops at its limit, never looping or returning NaN.
     let mut g = square_start(1000.0);
-    assert_eq!(g.run_exact(&mut stream(3), 1e12), Outcome::Limit);
-    assert_eq!(g.time(), 1e12);
+    assert_eq!(g.run_exact(&mut stream(2), f64::MAX), Outcome::Limit);
+    assert_eq!(g.time(), f64::MAX);
+    assert!(g.accepted() > 0);
+    assert_consistent(&g);
+    // A wait beyond the limit is a pause, finite or not.
+    for n in [1e4, 1000.0] {
+        let mut g = square_start(n);
+        assert_eq!(g.run_exact(&mut stream(3), 1e12), Outcome::Limit, "n = {n}");
+        assert_eq!(g.time(), 1e12);
+    }
     // The rejection sampler cannot overflow: p underflows to 0 in f64 and it simply runs to
     // the limit without acceptance (and without hanging).
     for n in [1000.0, 1e4] {
@@ -248,6 +258,36 @@ fn clock_overflow_is_reported_with_a_finite_limit() {
         assert_eq!(g.run_rejection(&mut stream(3), 20_000.0), Outcome::Limit);
         assert_eq!(g.time(), 20_000.0);
         assert_eq!(g.accepted(), 0, "n = {n}");
+    }
+}
+
+#[test]
+fn a_pause_before_a_wait_past_the_largest_f64_changes_nothing() {
+    // With the log clock allowed, an unbounded run goes on past the largest f64. A run first
+    // paused at finite limits (where that acceptance comes after them) and then continued
+    // without one accepts the same cells at the same log clock as a run that never paused.
+    let mut once = square_start(1e4);
+    once.allow_log_clock(true);
+    let mut r1 = stream(5);
+    assert_eq!(
+        once.run_exact_until(&mut r1, f64::INFINITY, 3),
+        Outcome::Limit
+    );
+    assert_eq!(once.accepted(), 3);
+    let mut paused = square_start(1e4);
+    paused.allow_log_clock(true);
+    let mut r2 = stream(5);
+    assert_eq!(paused.run_exact(&mut r2, 1e300), Outcome::Limit);
+    assert_eq!(paused.run_exact(&mut r2, f64::MAX), Outcome::Limit);
+    assert_eq!(paused.accepted(), 0);
+    assert_eq!(
+        paused.run_exact_until(&mut r2, f64::INFINITY, 3),
+        Outcome::Limit
+    );
+    assert_eq!(paused.log10_time(), once.log10_time());
+    assert!(once.log10_time() > 3000.0, "{}", once.log10_time());
+    for c in 0..once.lattice().len() {
+        assert_eq!(once.is_occupied(c), paused.is_occupied(c), "cell {c}");
     }
 }
 
@@ -804,11 +844,11 @@ fn invalid_parameters_name_the_parameter() {
 }
 
 #[test]
-fn scene_reports_clock_overflow_and_rejection_completes() {
-    // The flame scene on a small torus at n = 1e4: the exact sampler's first wait overflows,
-    // and the run says so (StopReason::ClockOverflow) instead of panicking or returning NaN.
-    // The rejection sampler runs its steps with no acceptance ((b/6)^1e4 is 0 in f64 for
-    // b < 6) and completes.
+fn scene_at_n_1e4_completes_its_steps_with_either_sampler() {
+    // The flame scene on a small torus at n = 1e4: the exact sampler's first acceptance lies
+    // past the largest f64, so after the run's 5000 steps: the run completes with nothing
+    // accepted, as the rejection sampler's does ((b/6)^1e4 is 0 in f64 for b < 6), without
+    // panicking or returning NaN.
     let mut cfg = SceneConfig::defaults(SceneKind::Flame);
     cfg.width = 24;
     cfg.height = 24;
@@ -817,19 +857,26 @@ fn scene_reports_clock_overflow_and_rejection_completes() {
     cfg.steps = 5000;
     cfg.snapshots = vec![10, 5000];
     cfg.series = 5;
+    for sampler in [SamplerKind::Exact, SamplerKind::Rejection] {
+        cfg.sampler = sampler;
+        let r = scene::run(&cfg, &mut NoHooks).unwrap();
+        assert_eq!(r.stop, StopReason::Completed, "{sampler:?}");
+        assert_eq!(r.last.accepted, 0);
+        assert_eq!(r.last.time, 5000.0);
+        assert!(r.series.iter().all(|o| !o.time.is_nan()));
+        // Both requested panels, at their times.
+        let times: Vec<f64> = r.snapshots.iter().map(|s| s.time).collect();
+        assert_eq!(times, vec![10.0, 5000.0], "{sampler:?}");
+    }
+    // Without a step limit the exact run goes on past the largest f64, on its log clock.
+    cfg.sampler = SamplerKind::Exact;
+    cfg.steps = 0;
+    cfg.events = Some(10);
+    cfg.snapshots = vec![];
     let r = scene::run(&cfg, &mut NoHooks).unwrap();
-    assert_eq!(r.stop, StopReason::ClockOverflow);
-    assert_eq!(r.last.accepted, 0);
-    assert!(r.series.iter().all(|o| !o.time.is_nan()));
-    // The state is final at once: one panel, in place of both requested times.
-    assert_eq!(r.snapshots.len(), 1);
-    assert_eq!(r.snapshots[0].time, r.last.time);
-    assert_eq!(r.snapshots[0].unreached, vec![10, 5000]);
-    cfg.sampler = SamplerKind::Rejection;
-    let r = scene::run(&cfg, &mut NoHooks).unwrap();
-    assert_eq!(r.stop, StopReason::Completed);
-    assert_eq!(r.last.accepted, 0);
-    assert_eq!(r.last.time, 5000.0);
+    assert_eq!(r.stop, StopReason::Events);
+    assert_eq!(r.last.accepted, 10);
+    assert!(r.log10_clock > 3000.0, "{}", r.log10_clock);
 }
 
 /// An unbounded run at n = 2000 takes its clock past the largest `f64` on a log clock: its

@@ -261,6 +261,7 @@ impl Growth {
             return None;
         }
         self.pending = None;
+        self.far_ln_time = f64::NAN;
         self.time += 1.0;
         let slot = rng.random_range(0..s as u32) as usize;
         let cell = self.surface.site(slot) as usize;
@@ -451,6 +452,14 @@ impl Growth {
                     if w.is_infinite() {
                         ln_wait = Some(ln_rejected_picks(ln_p, e));
                     }
+                    // The log of an acceptance time past the largest f64, kept for a run
+                    // that pauses first (Growth::move_clock_to). (The linear branch's waits
+                    // are below about 1e290 picks: its clock would pass the largest f64
+                    // only after some 1e18 acceptances.)
+                    if (self.time + w + 1.0).is_infinite() {
+                        let lw = ln_wait.unwrap_or_else(|| (w + 1.0).ln());
+                        self.far_ln_time = ln_add(self.time.ln(), lw);
+                    }
                     w
                 };
                 self.acceptance_time(wait, ln_wait, limit)
@@ -511,6 +520,8 @@ impl Growth {
         let s = self.surface.len();
         let at = match self.pending.take() {
             Some(at) => at,
+            // (every pick accepted: one timestep, so never past the largest f64 unless the
+            // clock already is, and then limit-bound at the top of step_exact)
             None => self.acceptance_time(0.0, None, limit),
         };
         if let Some(stop) = self.move_clock_to(at, limit) {
@@ -545,13 +556,27 @@ impl Growth {
     }
 
     /// Moves the clock to the next acceptance, at `at`; or says why the run stops first: the
-    /// clock overflowed, or the acceptance comes after `limit` (the run pauses at the limit
-    /// and keeps `at` for its next call).
+    /// acceptance comes after `limit` (the run pauses at the limit and keeps `at` for its next
+    /// call), or, in a run without a limit, the clock overflowed. An acceptance past the
+    /// largest `f64` comes after every finite limit: such a run reaches its limit with
+    /// nothing accepted, as the rejection sampler does (where it would take longer than any
+    /// run can).
     #[inline(always)]
     fn move_clock_to(&mut self, at: f64, limit: f64) -> Option<Outcome> {
         if at.is_infinite() && self.log_clock.is_none() {
-            self.time = at;
-            return Some(Outcome::ClockOverflow);
+            if limit.is_finite() {
+                self.pending = Some(at);
+                self.time = limit;
+                return Some(Outcome::Limit);
+            }
+            // (an acceptance kept by a pause, now without a limit: its log was kept too, and
+            // the run goes on where a run that never paused would)
+            let ln_at = std::mem::replace(&mut self.far_ln_time, f64::NAN);
+            if !(self.log_clock_allowed && ln_at.is_finite()) {
+                self.time = at;
+                return Some(Outcome::ClockOverflow);
+            }
+            self.log_clock = Some(ln_at);
         }
         if at > limit {
             self.pending = Some(at);

@@ -86,6 +86,10 @@ pub struct Growth {
     pub(crate) time: f64,
     /// The time of the next acceptance, drawn by the exact sampler before a pause.
     pub(crate) pending: Option<f64>,
+    /// The natural log of the last acceptance time drawn past the largest `f64` (`inf`): a
+    /// run paused at a finite limit before it, then continued without one, takes up the log
+    /// clock from it.
+    pub(crate) far_ln_time: f64,
     /// Natural log of the clock once it has passed the largest `f64` (unbounded exact runs
     /// only); `time` is then `inf`.
     pub(crate) log_clock: Option<f64>,
@@ -388,6 +392,7 @@ impl Growth {
             tree,
             time: 0.0,
             pending: None,
+            far_ln_time: f64::NAN,
             log_clock: None,
             log_clock_allowed: false,
             accepted: 0,
@@ -474,6 +479,7 @@ impl Growth {
             });
         }
         self.pending = None;
+        self.far_ln_time = f64::NAN;
         self.occupy_unchecked(cell);
         Ok(())
     }
@@ -484,6 +490,7 @@ impl Growth {
             let (x, y) = self.lattice.position(c);
             if inside(x, y) {
                 self.pending = None;
+                self.far_ln_time = f64::NAN;
                 self.occupy_unchecked(c);
             }
         }

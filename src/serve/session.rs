@@ -144,7 +144,9 @@ impl GrowthSession {
                     match self.g.step_exact(&mut self.rng, limit) {
                         Outcome::Accepted(_) => done += 1,
                         o => {
-                            self.stopped = outcome_stop(o).or(Some("the clock reached 2^53"));
+                            self.stopped = outcome_stop(o).or(Some(
+                                "the clock reached 2^53 timesteps: the next acceptance lies beyond it",
+                            ));
                             break;
                         }
                     }
