@@ -328,6 +328,41 @@ fn duration_and_until_equilibrium() {
     }
 }
 
+/// `--print-scenario` writes the model only: the run's output options given with it are named
+/// in a note (they are not in the file, and nothing is written).
+#[test]
+fn print_scenario_names_the_run_options_it_leaves_out() {
+    let out = tmp("not_written.nc");
+    let _ = std::fs::remove_file(&out);
+    let o = cellsurf(&[
+        "ripple",
+        "--print-scenario",
+        "--snapshots",
+        "0,100",
+        "--steps",
+        "200",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("--out, --snapshots choose a run's outputs")
+            && err.contains("--scenario FILE"),
+        "{err}"
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("steps = 200") && !text.contains("snapshots"),
+        "{text}"
+    );
+    assert!(!out.exists());
+    // Without them, no note.
+    let o = cellsurf(&["ripple", "--print-scenario"]);
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("note:"));
+}
+
 /// Troughs down to the substrate: a warning naming the bare columns and `--layers`, JSON's
 /// `bare_fraction` (and per checkpoint), and no equilibrium declared on a bed that has shown
 /// the substrate although the stalled field passes the 10 % test on wavelength and height

@@ -572,6 +572,29 @@ pub fn run(a: Args) -> Result<()> {
     conv::set_quiet(a.quiet);
     let p = params(&a)?;
     if a.print_scenario {
+        // (the scenario holds the model; these choose what a run writes)
+        let run_only: Vec<String> = [
+            ("out", "--out", !a.out.is_empty()),
+            ("fields", "--fields", a.fields.is_some()),
+            ("snapshots", "--snapshots", a.snapshots.is_some()),
+            ("format", "--format", a.format.is_some()),
+        ]
+        .into_iter()
+        .filter(|&(_, _, given)| given)
+        .map(|(id, long, _)| conv::typed_flag(id).unwrap_or_else(|| long.into()))
+        .collect();
+        if !run_only.is_empty() {
+            conv::note(format_args!(
+                "note: --print-scenario writes the model's parameters only and runs nothing: {} {} a run's outputs, not part of the scenario; give {} again with --scenario FILE",
+                run_only.join(", "),
+                if run_only.len() == 1 {
+                    "chooses"
+                } else {
+                    "choose"
+                },
+                if run_only.len() == 1 { "it" } else { "them" },
+            ));
+        }
         let mut p = p;
         let mut asked = String::new();
         if a.duration.is_some() || a.wave_period.is_some() {
