@@ -102,6 +102,16 @@ pub fn typed_flag(id: &str) -> Option<String> {
     arg.get_long().map(|l| format!("--{l}"))
 }
 
+/// The flags among `(id, long, given)` that were given, each as the user typed it (else its
+/// long name), in the order listed.
+pub fn given_flags(flags: &[(&str, &str, bool)]) -> Vec<String> {
+    flags
+        .iter()
+        .filter(|&&(_, _, given)| given)
+        .map(|&(id, long, _)| typed_flag(id).unwrap_or_else(|| long.into()))
+        .collect()
+}
+
 /// Sets `--quiet` for [`wrote`] and [`note`].
 pub fn set_quiet(quiet: bool) {
     QUIET.store(quiet, Ordering::Relaxed);

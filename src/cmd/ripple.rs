@@ -573,16 +573,12 @@ pub fn run(a: Args) -> Result<()> {
     let p = params(&a)?;
     if a.print_scenario {
         // (the scenario holds the model; these choose what a run writes)
-        let run_only: Vec<String> = [
+        let run_only = conv::given_flags(&[
             ("out", "--out", !a.out.is_empty()),
             ("fields", "--fields", a.fields.is_some()),
             ("snapshots", "--snapshots", a.snapshots.is_some()),
             ("format", "--format", a.format.is_some()),
-        ]
-        .into_iter()
-        .filter(|&(_, _, given)| given)
-        .map(|(id, long, _)| conv::typed_flag(id).unwrap_or_else(|| long.into()))
-        .collect();
+        ]);
         if !run_only.is_empty() {
             conv::note(format_args!(
                 "note: --print-scenario writes the model's parameters only and runs nothing: {} {} a run's outputs, not part of the scenario; give {} again with --scenario FILE",
@@ -660,15 +656,11 @@ pub fn run(a: Args) -> Result<()> {
         None => (None, Format::NetCdf),
     };
     if out.is_none() {
-        let unused: Vec<String> = [
+        let unused = conv::given_flags(&[
             ("fields", "--fields", a.fields.is_some()),
             ("snapshots", "--snapshots", a.snapshots.is_some()),
             ("acoustics", "--acoustics", a.acoustics.is_some()),
-        ]
-        .into_iter()
-        .filter(|&(_, _, given)| given)
-        .map(|(id, long, _)| conv::typed_flag(id).unwrap_or_else(|| long.into()))
-        .collect();
+        ]);
         if !unused.is_empty() {
             conv::note(format_args!(
                 "warning: {} {} no effect without a volume output: {} what --out FILE.nc|.npy|.zarr writes; give --out",
