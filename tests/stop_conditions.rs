@@ -90,6 +90,63 @@ fn until_occupied_stops_at_the_first_event_that_reaches_the_fraction() {
 }
 
 #[test]
+fn the_ca_stops_after_the_update_that_reaches_the_count_and_a_full_lattice_says_so() {
+    // The CA adds whole updates: --events 10 stops after the second (4 + 8 = 12 cells on the
+    // hex torus from a point), named by the count; an event count reached by the update that
+    // fills the lattice is named by the full lattice, with every sampler.
+    let mut c = SceneConfig::defaults(SceneKind::Ca);
+    c.steps = 0;
+    c.events = Some(10);
+    c.sampler = SamplerKind::Ca;
+    let r = scene::run(&c, &mut NoHooks).unwrap();
+    assert_eq!((r.last.accepted, r.stop), (12, StopReason::Events));
+    use cellsurf::engine::lattice::Neighbourhood;
+    for sampler in [SamplerKind::Ca, SamplerKind::Exact, SamplerKind::Rejection] {
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.lattice = Neighbourhood::Square4;
+        c.width = 4;
+        c.height = 4;
+        c.sampler = sampler;
+        c.steps = if sampler == SamplerKind::Rejection {
+            1_000_000
+        } else {
+            0
+        };
+        c.events = Some(15);
+        let r = scene::run(&c, &mut NoHooks).unwrap();
+        assert_eq!(r.last.occupied, 16, "{sampler:?}");
+        assert_eq!(r.stop, StopReason::LatticeFull, "{sampler:?}");
+    }
+}
+
+#[test]
+fn until_occupied_stops_at_the_fraction_even_where_its_product_rounds_up() {
+    // 0.07 x 100 = 7.000000000000001 and 0.28 x 10000 = 2800.0000000000005 in f64: the run
+    // stops at 7 and 2800 cells (7 % and 28 %), not one cell later; 0.071 still asks for 8.
+    use cellsurf::engine::lattice::Neighbourhood;
+    for (size, f, want) in [
+        (10, 0.07, 7),
+        (10, 0.071, 8),
+        (100, 0.28, 2800),
+        (100, 0.56, 5600),
+        (100, 0.81, 8100),
+    ] {
+        let mut c = SceneConfig::defaults(SceneKind::Grow);
+        c.lattice = Neighbourhood::Square4;
+        c.width = size;
+        c.height = size;
+        c.steps = 0;
+        c.until_occupied = Some(f);
+        let r = scene::run(&c, &mut NoHooks).unwrap();
+        assert_eq!(
+            (r.last.occupied, r.stop),
+            (want, StopReason::Occupied),
+            "{f}"
+        );
+    }
+}
+
+#[test]
 fn stiff_runs_go_past_the_largest_f64_on_a_log_clock() {
     // n = 1e4: a pick on a site with b = 3 of 6 succeeds with probability 2^-10000, so the
     // waits are about 10^3010 picks; the clock leaves f64 but stays finite in log10.

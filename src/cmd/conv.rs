@@ -277,17 +277,19 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// Refuses a run that would need more memory than this machine has available (Linux's
-/// `MemAvailable`; nothing is checked where it cannot be read), naming `what` sets the size:
-/// an allocation that fails aborts the program, with no message worth the name.
+/// Refuses a run that would need more memory than this process may have (Linux: the
+/// machine's `MemAvailable`, the memory limit of the process's cgroup, as a batch scheduler or
+/// a container sets it, and its address-space and data ulimits; nothing is checked where none
+/// can be read), naming `what` sets the size: an allocation that fails aborts the program,
+/// with no message worth the name.
 pub fn check_memory(what: &str, bytes: f64) -> Result<()> {
-    let Some(avail) = available_memory() else {
+    let Some((avail, whose)) = available_memory() else {
         return Ok(());
     };
     if bytes > avail as f64 {
         bail!(
-            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available on this \
-             machine: choose a smaller one",
+            "{what} needs about {:.1} GB of memory, more than the {:.1} GB available to this \
+             run ({whose}): choose a smaller one",
             bytes / 1e9,
             avail as f64 / 1e9
         );
@@ -295,12 +297,79 @@ pub fn check_memory(what: &str, bytes: f64) -> Result<()> {
     Ok(())
 }
 
-/// Bytes of memory available to a new allocation (`MemAvailable` of `/proc/meminfo`).
-fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+/// Bytes of memory a new allocation may take, and which limit gives it: the least of the
+/// machine's `MemAvailable` (`/proc/meminfo`), the room left under the process's cgroup
+/// memory limit (v2 `memory.max`, v1 `memory.limit_in_bytes`) and under its `ulimit -v`
+/// (address space) and `ulimit -d` (data) soft limits.
+fn available_memory() -> Option<(u64, &'static str)> {
+    let kb_field = |text: &str, key: &str| -> Option<u64> {
+        let line = text.lines().find(|l| l.starts_with(key))?;
+        Some(line.split_whitespace().nth(1)?.parse::<u64>().ok()? * 1024)
+    };
+    let mut best: Option<(u64, &'static str)> = None;
+    let mut offer = |room: Option<u64>, whose: &'static str| {
+        if let Some(r) = room
+            && best.is_none_or(|(b, _)| r < b)
+        {
+            best = Some((r, whose));
+        }
+    };
+    let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    offer(
+        kb_field(&meminfo, "MemAvailable:"),
+        "the machine's free memory",
+    );
+    offer(cgroup_room(), "its cgroup's memory limit");
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let limits = std::fs::read_to_string("/proc/self/limits").unwrap_or_default();
+    // "Max address space  <soft> <hard> bytes": a number, or "unlimited"
+    let soft = |name: &str| -> Option<u64> {
+        let line = limits.lines().find(|l| l.starts_with(name))?;
+        line[name.len()..].split_whitespace().next()?.parse().ok()
+    };
+    let room = |limit: Option<u64>, used: Option<u64>| Some(limit?.saturating_sub(used?));
+    offer(
+        room(soft("Max address space"), kb_field(&status, "VmSize:")),
+        "ulimit -v",
+    );
+    offer(
+        room(soft("Max data size"), kb_field(&status, "VmData:")),
+        "ulimit -d",
+    );
+    best
+}
+
+/// The room left under the memory limit of this process's cgroup (v2 or v1), if it has one.
+fn cgroup_room() -> Option<u64> {
+    let read = |p: &str| -> Option<u64> { std::fs::read_to_string(p).ok()?.trim().parse().ok() };
+    let groups = std::fs::read_to_string("/proc/self/cgroup").ok()?;
+    for line in groups.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (_, controllers, path) = (parts.next()?, parts.next()?, parts.next()?);
+        // v2 ("0::/path"), then v1's memory controller; the path as mounted, or the root of
+        // the mount where the namespace hides it
+        let (dir, max, current) = if controllers.is_empty() {
+            ("/sys/fs/cgroup", "memory.max", "memory.current")
+        } else if controllers.split(',').any(|c| c == "memory") {
+            (
+                "/sys/fs/cgroup/memory",
+                "memory.limit_in_bytes",
+                "memory.usage_in_bytes",
+            )
+        } else {
+            continue;
+        };
+        for base in [format!("{dir}{path}"), dir.to_string()] {
+            let base = base.trim_end_matches('/');
+            if let (Some(limit), Some(used)) = (
+                read(&format!("{base}/{max}")),
+                read(&format!("{base}/{current}")),
+            ) {
+                return Some(limit.saturating_sub(used));
+            }
+        }
+    }
+    None
 }
 
 /// The largest seed: a scenario file (TOML) holds whole numbers up to 2^63 - 1.
@@ -308,12 +377,22 @@ pub const MAX_SEED: u64 = i64::MAX as u64;
 
 /// A seed: a whole number from 0 to [`MAX_SEED`] (`1e3` accepted).
 pub fn parse_seed(s: &str) -> Result<u64, String> {
-    let v = parse_count(s)?;
-    if v > MAX_SEED {
-        return Err(format!(
+    let out_of_range = || {
+        format!(
             "{s} is out of range: a seed is a whole number from 0 to {MAX_SEED} (2^63 - 1, the \
              largest a scenario file holds)"
-        ));
+        )
+    };
+    let v = match parse_count(s) {
+        Ok(v) => v,
+        // (a whole number past u64 is out of the seed's range too, which is what to say)
+        Err(_) if s.trim().parse::<f64>().is_ok_and(|x| x > MAX_SEED as f64) => {
+            return Err(out_of_range());
+        }
+        Err(e) => return Err(e),
+    };
+    if v > MAX_SEED {
+        return Err(out_of_range());
     }
     Ok(v)
 }
@@ -346,8 +425,14 @@ pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
         Some((w, h)) => (w, h),
         None => (s, s),
     };
-    let w: usize = w.trim().parse().map_err(|_| bad())?;
-    let h: usize = h.trim().parse().map_err(|_| bad())?;
+    // (each side a count: `1e3` accepted, as by every count option)
+    let side = |t: &str| -> Result<usize, String> {
+        parse_count(t.trim())
+            .ok()
+            .and_then(|v| usize::try_from(v).ok())
+            .ok_or_else(bad)
+    };
+    let (w, h) = (side(w)?, side(h)?);
     if w == 0 || h == 0 {
         return Err(format!(
             "'{s}' has a zero side: each side is at least 1 cell"
@@ -598,6 +683,31 @@ impl Outputs {
     }
 }
 
+/// The file of the old spelling `--format F --out STEM` (kept for one release): the stem with
+/// the format's extension. A file name that already ends in another format's extension, or
+/// more than one `--out`, is refused: the extension the user typed is never replaced silently.
+pub fn legacy_format_path(f: Format, out: &[PathBuf]) -> Result<Option<PathBuf>> {
+    if out.len() > 1 {
+        bail!(
+            "--format with {} --out files: give one --out, or leave --format out (the extension of each --out picks its format)",
+            out.len()
+        );
+    }
+    let Some(p) = out.first() else {
+        return Ok(None);
+    };
+    if let Some(other) = Format::of(p).filter(|&g| g != f) {
+        bail!(
+            "--out {} names a .{} file but --format asks for .{}: give one (--out {}, without --format)",
+            p.display(),
+            other.ext(),
+            f.ext(),
+            p.with_extension(f.ext()).display()
+        );
+    }
+    Ok(Some(p.with_extension(f.ext())))
+}
+
 /// Whether two output paths name the same file (as written, or once made absolute).
 fn same_path(a: &Path, b: &Path) -> bool {
     if a == b {
@@ -777,6 +887,21 @@ mod tests {
         assert_eq!(parse_size("200x230"), Ok((200, 230)));
         assert!(parse_size("0x4").unwrap_err().contains("zero side"));
         assert!(parse_size("ax4").is_err());
+        // sides in the counts' notation, as every count option takes them
+        assert_eq!(parse_size("1e2"), Ok((100, 100)));
+        assert_eq!(parse_size("64x1e2"), Ok((64, 100)));
+        assert!(parse_size("1.5e0").unwrap_err().contains("not a size"));
+        assert!(parse_size("-3").is_err());
+    }
+
+    #[test]
+    fn a_seed_past_u64_is_out_of_the_seeds_range() {
+        for s in ["18446744073709551616", "1e20", "9223372036854775808"] {
+            let e = parse_seed(s).unwrap_err();
+            assert!(e.contains("2^63 - 1") && e.contains(s), "{e}");
+        }
+        assert!(parse_seed("abc").unwrap_err().contains("not a whole"));
+        assert_eq!(parse_seed("1e3"), Ok(1000));
     }
 
     #[test]

@@ -559,19 +559,20 @@ impl SceneConfig {
     /// the lattice's extent on an axis with an even number of cells (a cell's centre, except
     /// on the shifted rows of a hex lattice), and the middle cell's (column `W / 2`, row
     /// `H / 2`, rounded down) on an axis with an odd number: half the extent would fall
-    /// between two cells there, half a cell off the lattice's symmetric centre.
+    /// between two cells there, half a cell off the lattice's symmetric centre. A point seed
+    /// is the cell nearest that centre (so the middle cell on a lattice with odd sides, the
+    /// same cell as a disc of diameter 1), and its centre is that cell's.
     pub fn centre(&self, lattice: &Lattice) -> (f64, f64) {
         let (pw, ph) = lattice.physical_size();
+        let (w, h) = (lattice.width(), lattice.height());
+        let (mx, my) = lattice.position_xy(w / 2, h / 2);
+        let c = (
+            if w % 2 == 1 { mx } else { pw / 2.0 },
+            if h % 2 == 1 { my } else { ph / 2.0 },
+        );
         match self.shape {
-            Shape::Point => lattice.position(lattice.nearest_cell(pw / 2.0, ph / 2.0)),
-            _ => {
-                let (w, h) = (lattice.width(), lattice.height());
-                let (mx, my) = lattice.position_xy(w / 2, h / 2);
-                (
-                    if w % 2 == 1 { mx } else { pw / 2.0 },
-                    if h % 2 == 1 { my } else { ph / 2.0 },
-                )
-            }
+            Shape::Point => lattice.position(lattice.nearest_cell(c.0, c.1)),
+            _ => c,
         }
     }
 
@@ -677,7 +678,8 @@ pub struct Observables {
     /// Amplitude of the first Fourier mode of the surface height (deposit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mode1_amplitude: Option<f64>,
-    /// Mean surface elevation (deposit).
+    /// Mean surface elevation (deposit), cell widths above the lattice's floor (the hex
+    /// lattice's rows are sqrt(3)/2 apart).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mean_elevation: Option<f64>,
 }
@@ -733,7 +735,8 @@ pub struct RunResult {
     pub setup_s: f64,
     /// Seconds spent running (sampling and observing).
     pub elapsed_s: f64,
-    /// Of `elapsed_s`, seconds spent observing (series, snapshots, the final observables).
+    /// Of `elapsed_s`, seconds spent observing (series, snapshots, the hooks' frames, the
+    /// final observables).
     pub observe_s: f64,
     /// True when the final clock is an exact whole number of timesteps (at most `2^53`).
     pub clock_exact: bool,
@@ -850,7 +853,13 @@ fn event_target(cfg: &SceneConfig, g: &Growth) -> Result<Option<(u64, StopReason
     let mut t: Option<(u64, StopReason)> = cfg.events.map(|e| (e, StopReason::Events));
     if let Some(f) = cfg.until_occupied {
         let cells = g.lattice().len();
-        let want = (f * cells as f64).ceil() as usize;
+        // The least whole count `k` with `k / cells >= f`: the product `f * cells` can lie
+        // an ulp above a whole number (0.07 x 100 = 7.000000000000001), whose ceiling would
+        // ask for one cell more.
+        let mut want = (f * cells as f64).ceil() as usize;
+        if want > 0 && (want - 1) as f64 / cells as f64 >= f {
+            want -= 1;
+        }
         if want <= g.occupied() {
             return Err(range(
                 "until_occupied",
@@ -938,7 +947,7 @@ fn run_by_clock(
             }
             *observe_s += t.elapsed().as_secs_f64();
             if next_frame < frames.len() && frame_at != Some(g.accepted()) {
-                hooks.frame(g.time(), g);
+                timed(observe_s, || hooks.frame(g.time(), g));
             }
             break;
         }
@@ -957,7 +966,7 @@ fn run_by_clock(
         }
         *observe_s += t.elapsed().as_secs_f64();
         while next_frame < frames.len() && frames[next_frame] <= cp {
-            hooks.frame(frames[next_frame], g);
+            timed(observe_s, || hooks.frame(frames[next_frame], g));
             frame_at = Some(g.accepted());
             next_frame += 1;
         }
@@ -971,6 +980,14 @@ fn run_by_clock(
         *observe_s += t.elapsed().as_secs_f64();
     }
     (snapshots, series, stop)
+}
+
+/// Runs `f` (a hook's frame: drawing and encoding it), adding its time to `observe_s`, so
+/// that the sampling rate counts the sampling alone.
+fn timed(observe_s: &mut f64, f: impl FnOnce()) {
+    let t = Instant::now();
+    f();
+    *observe_s += t.elapsed().as_secs_f64();
 }
 
 /// Appends the observation of the final state to `series`, unless its last point already is
@@ -1090,7 +1107,7 @@ fn run_by_events(
     // Accepted events at the last frame drawn (the state it shows).
     let mut frame_at = None;
     if !frames.is_empty() {
-        hooks.frame(g.time(), g);
+        timed(observe_s, || hooks.frame(g.time(), g));
         frame_at = Some(g.accepted());
     }
     'run: for &cp in &checkpoints {
@@ -1133,7 +1150,7 @@ fn run_by_events(
         }
         *observe_s += t.elapsed().as_secs_f64();
         if next_frame < frames.len() && frames[next_frame] <= cp && frame_at != Some(g.accepted()) {
-            hooks.frame(g.time(), g);
+            timed(observe_s, || hooks.frame(g.time(), g));
             frame_at = Some(g.accepted());
         }
         while next_frame < frames.len() && frames[next_frame] <= cp {
@@ -1152,7 +1169,12 @@ fn run_by_events(
     }
     *observe_s += t.elapsed().as_secs_f64();
     if !frames.is_empty() && frame_at != Some(g.accepted()) {
-        hooks.frame(g.time(), g);
+        timed(observe_s, || hooks.frame(g.time(), g));
+    }
+    // A count reached by the event that filled the lattice: the state is final, which says
+    // more (the CA, adding whole updates, can pass the count on its last update).
+    if matches!(stop, StopReason::Events | StopReason::Occupied) && g.surface().is_empty() {
+        stop = StopReason::LatticeFull;
     }
     (snapshots, series, stop)
 }
@@ -1325,6 +1347,56 @@ mod tests {
         }
         fn frame(&mut self, _time: f64, g: &Growth) {
             self.drawn.push(g.accepted());
+        }
+    }
+
+    /// Hooks whose every frame takes `pause` (drawing and encoding, as a GIF's do).
+    struct SlowFrames {
+        times: Vec<f64>,
+        count: usize,
+        pause: std::time::Duration,
+        drawn: usize,
+    }
+    impl RunHooks for SlowFrames {
+        fn frame_times(&self) -> Vec<f64> {
+            self.times.clone()
+        }
+        fn frame_count(&self) -> usize {
+            self.count
+        }
+        fn frame(&mut self, _time: f64, _g: &Growth) {
+            std::thread::sleep(self.pause);
+            self.drawn += 1;
+        }
+    }
+
+    #[test]
+    fn the_hooks_frames_count_as_observing_not_sampling() {
+        // Runs stopped by their clock and by events: every frame's time is in observe_s, so
+        // the sampling time (elapsed_s - observe_s) and the rate reported from it do not
+        // depend on the frames asked for.
+        let pause = std::time::Duration::from_millis(20);
+        let mut by_clock = SceneConfig::defaults(SceneKind::Flame);
+        by_clock.steps = 2000;
+        by_clock.snapshots = Vec::new();
+        let mut by_events = by_clock.clone();
+        by_events.steps = 0;
+        by_events.events = Some(500);
+        for (c, times, count) in [
+            (&by_clock, vec![0.0, 500.0, 1000.0, 2000.0], 0),
+            (&by_events, Vec::new(), 4),
+        ] {
+            let mut h = SlowFrames {
+                times,
+                count,
+                pause,
+                drawn: 0,
+            };
+            let r = run(c, &mut h).unwrap();
+            assert!(h.drawn >= 4, "{}", h.drawn);
+            let frames_s = h.drawn as f64 * pause.as_secs_f64();
+            assert!(r.observe_s >= frames_s, "{} < {frames_s}", r.observe_s);
+            assert!(r.elapsed_s - r.observe_s < frames_s / 2.0, "{r:?}");
         }
     }
 
