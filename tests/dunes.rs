@@ -846,6 +846,39 @@ mod cli {
         );
     }
 
+    /// Frames in a GIF file.
+    fn gif_frames(path: &std::path::Path) -> usize {
+        let mut dec = gif::DecodeOptions::new()
+            .read_info(std::fs::File::open(path).unwrap())
+            .unwrap();
+        let mut n = 0;
+        while dec.next_frame_info().unwrap().is_some() {
+            n += 1;
+        }
+        n
+    }
+
+    #[test]
+    fn the_gif_holds_the_initial_state_and_gif_frames_more() {
+        // 100 iterations, 60 frames asked (the default): 61; 7 iterations, 3 frames: 4;
+        // 5 iterations, 60 frames: one per iteration, 6.
+        for (iters, frames, want) in [("100", None, 61), ("7", Some("3"), 4), ("5", None, 6)] {
+            let g = tmp(&format!("frames_{iters}.gif"));
+            let mut args = vec!["dunes", "-d", "-g", "12", "-i", iters, "--quiet"];
+            if let Some(f) = frames {
+                args.extend(["--gif-frames", f]);
+            }
+            args.extend(["--out", g.to_str().unwrap()]);
+            let out = cellsurf(&args);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            assert_eq!(gif_frames(&g), want, "{args:?}");
+        }
+    }
+
     #[test]
     fn bad_input_exits_non_zero_with_a_message() {
         for (args, want) in [

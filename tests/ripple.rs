@@ -617,6 +617,30 @@ fn netcdf_output_has_the_cdf_magic_and_opens_if_a_reader_is_installed() {
 }
 
 #[test]
+fn netcdf_snapshot_steps_past_2_24_are_kept_exactly() {
+    // A float holds whole numbers exactly only up to 2^24: steps 2^24 and 2^24 + 1 must stay
+    // two steps in the file (the time coordinate is a double) and read back as written.
+    let p = RippleParams {
+        steps: 2,
+        ..small()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    let snaps = run_recording(&mut r, 2, &[0, 2], |_| {});
+    let big: Vec<(u64, Vec<f32>)> = [16_777_216u64, 16_777_217, (1 << 40) - 1]
+        .iter()
+        .map(|&t| (t, snaps[1].1.clone()))
+        .collect();
+    let spec = OutputSpec {
+        fields: vec![Field::Elevation],
+        format: Format::NetCdf,
+    };
+    let path = tmp("big_steps.nc");
+    write_netcdf(&path, &r, &big, &spec).unwrap();
+    let f = cellsurf::ripple::input::read(&path).unwrap();
+    assert_eq!(f.times, vec![16_777_216, 16_777_217, (1 << 40) - 1]);
+}
+
+#[test]
 fn netcdf_round_trip_gives_back_what_the_run_computed() {
     let p = RippleParams {
         steps: 12,

@@ -328,6 +328,38 @@ fn duration_and_until_equilibrium() {
     }
 }
 
+/// The old `--format F --out STEM` spelling never replaces an extension the user typed: a file
+/// name of another format is refused, and nothing is written; `--steps 0` records one
+/// snapshot (step 0), not two of the same step.
+#[test]
+fn format_never_renames_an_output_and_a_run_of_no_step_has_one_snapshot() {
+    let npy = tmp("fmt_c.npy");
+    let nc = npy.with_extension("nc");
+    for p in [&npy, &nc] {
+        let _ = std::fs::remove_file(p);
+    }
+    let small = |steps: &str, extra: &[&str]| {
+        let mut a = vec!["ripple", "--size", "24x12", "--layers", "10", "--quiet"];
+        a.extend(["--steps", steps, "--out", npy.to_str().unwrap()]);
+        a.extend(extra);
+        cellsurf(&a)
+    };
+    let o = small("5", &["--format", "nc"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("names a .npy file but --format asks for .nc"),
+        "{err}"
+    );
+    assert!(!npy.exists() && !nc.exists());
+    let o = small("0", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(npy.with_extension("json")).unwrap())
+            .unwrap();
+    assert_eq!(side["elevation_times"], serde_json::json!([0]), "{side}");
+}
+
 /// `--print-scenario` writes the model only: the run's output options given with it are named
 /// in a note (they are not in the file, and nothing is written).
 #[test]

@@ -218,6 +218,15 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
         err.contains("warning: the dune relief is steeper than sand can stand"),
         "{err}"
     );
+    // --quiet silences it, as every warning
+    a.push("--quiet");
+    let o = cellsurf(&a);
+    assert!(o.status.success());
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 #[test]

@@ -96,7 +96,8 @@ pub struct Args {
     /// Old spelling of `--out FILE.gif` (kept for one release).
     #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
-    /// Frames in the GIF (1 to 2000).
+    /// Frames in the GIF after the initial state (1 to 2000), evenly spaced over the
+    /// iterations, the last at the end (fewer when the run has fewer iterations).
     #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
@@ -219,7 +220,11 @@ pub fn run(a: Args) -> Result<()> {
         ));
     }
     let mut rec = outs.get(Format::Gif).map(|_| MigrationRecorder::new(480));
-    let every = (cfg.iterations / a.gif_frames as u64).max(1);
+    // The initial state, then --gif-frames states evenly spaced up to the last iteration (as
+    // a growth run's GIF): iteration `iterations i / frames` for i = 1..=frames, once each.
+    let frames = a.gif_frames as u64;
+    let mut next_frame = 1u64;
+    let frame_at = |i: u64| (cfg.iterations as u128 * i as u128 / frames as u128) as u64;
     if let Some(r) = rec.as_mut() {
         r.add(&m);
     }
@@ -228,9 +233,13 @@ pub fn run(a: Args) -> Result<()> {
         m.step();
         let t = m.iteration();
         if let Some(r) = rec.as_mut()
-            && (t % every == 0 || t == cfg.iterations)
+            && next_frame <= frames
+            && frame_at(next_frame) <= t
         {
             r.add(&m);
+            while next_frame <= frames && frame_at(next_frame) <= t {
+                next_frame += 1;
+            }
         }
         if !silent && !shown && start.elapsed().as_secs_f64() > 1.0 {
             bar.set_draw_target(ProgressDrawTarget::stderr());

@@ -635,7 +635,7 @@ pub fn run(a: Args) -> Result<()> {
                 Format::Zarr => ConvFormat::Zarr,
             };
             let mut o = Outputs::default();
-            let path = a.out.first().map(|p| p.with_extension(fmt.ext()));
+            let path = conv::legacy_format_path(fmt, &a.out)?;
             o.add_legacy(fmt, path.as_ref())?;
             o
         }
@@ -660,6 +660,7 @@ pub fn run(a: Args) -> Result<()> {
             ("fields", "--fields", a.fields.is_some()),
             ("snapshots", "--snapshots", a.snapshots.is_some()),
             ("acoustics", "--acoustics", a.acoustics.is_some()),
+            ("format", "--format", a.format.is_some()),
         ]);
         if !unused.is_empty() {
             conv::note(format_args!(
@@ -832,6 +833,8 @@ pub fn run(a: Args) -> Result<()> {
 
     let mut times: Vec<u64> = match &a.snapshots {
         Some(t) => t.clone(),
+        // (one snapshot where the run has no step: `--steps 0`)
+        None if p.steps == 0 => vec![0],
         None => vec![0, p.steps],
     };
     // (with no motion the cap is the steps asked for: none of them is run)

@@ -484,7 +484,7 @@ pub fn run(a: Args) -> Result<()> {
                 _ => bail!("--format = {f} is out of range: expected netcdf or npy"),
             };
             let mut o = Outputs::default();
-            let path = a.out.first().map(|p| p.with_extension(fmt.ext()));
+            let path = conv::legacy_format_path(fmt, &a.out)?;
             o.add_legacy(fmt, path.as_ref())?;
             o
         }
@@ -773,13 +773,13 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(s) = dune_slopes
         && s.max_deg > ANGLE_OF_REPOSE_DEG
     {
-        eprintln!(
+        conv::note(format_args!(
             "warning: the dune relief is steeper than sand can stand: largest dune slope {:.1} deg, {:.1} % of the dune grid above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg), rms slope {:.1} deg (rms height {:.3} m); lower --dune-rms (or leave it out for the default)",
             s.max_deg,
             100.0 * s.above_repose,
             s.rms_deg,
             dune_params.rms
-        );
+        ));
     }
     let summary = |seams: Option<&SeamStats>, bytes: u64, elapsed: f64| {
         serde_json::json!({

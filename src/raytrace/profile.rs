@@ -86,9 +86,20 @@ impl Table {
         for (n, line, cols) in table_rows(text) {
             let nums: Option<Vec<f64>> = cols.iter().map(|c| c.parse::<f64>().ok()).collect();
             match nums {
-                Some(n2) if n2.len() >= 2 => {
+                Some(n2) if n2.len() == 2 => {
                     z.push(n2[0]);
                     v.push(n2[1]);
+                }
+                // (a third column, say a temperature left in, is refused rather than dropped)
+                Some(n2) if n2.len() > 2 => {
+                    return Err(RaytraceError::Input {
+                        what: what.to_string(),
+                        reason: format!(
+                            "line {}: '{line}' has {} columns, expected two (depth, value)",
+                            n + 1,
+                            n2.len()
+                        ),
+                    });
                 }
                 _ if z.is_empty() && !header => {
                     header = true;
@@ -533,6 +544,17 @@ pub(crate) fn table_rows(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_table_row_of_more_than_two_numbers_is_refused() {
+        let lim = (1400.0, 1700.0, "m/s");
+        let ok = Table::parse("profile table", "depth,speed\n0,1500\n20,1490\n", lim).unwrap();
+        assert_eq!(ok.values(), &[1500.0, 1490.0]);
+        let e = Table::parse("profile table", "0,1500\n20,1500,7\n", lim)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("3 columns"), "{e}");
+    }
 
     #[test]
     fn munk_profile_values() {

@@ -158,9 +158,15 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
     let mut times = Vec::new();
     let mut elevation = Vec::new();
     if has_elevation {
-        let ts = r
-            .read_var_f32("time")
-            .map_err(|e| read_err(path, format!("time: {}", describe(&e))))?;
+        // (a double since steps past 2^24 were written; a float in older files)
+        let ts: Vec<f64> = match r
+            .read_var("time")
+            .map_err(|e| read_err(path, format!("time: {}", describe(&e))))?
+        {
+            netcdf3::DataVector::F64(v) => v,
+            netcdf3::DataVector::F32(v) => v.into_iter().map(f64::from).collect(),
+            _ => return Err(read_err(path, "time is neither a float nor a double")),
+        };
         let all = r
             .read_var_f32("elevation")
             .map_err(|e| read_err(path, format!("elevation: {}", describe(&e))))?;

@@ -350,14 +350,13 @@ pub fn write_netcdf_with(
     if want_elev {
         ds.add_fixed_dim("time", snapshots.len())
             .map_err(|x| out_err(path, x))?;
-        coord(
-            &mut ds,
-            "time",
-            "time",
-            "1",
-            "model step of the snapshot",
-            "T",
-        )
+        // (a double: steps run to 2^40, and a float holds whole numbers exactly only to 2^24)
+        (|| {
+            ds.add_var_f64("time", &["time"])?;
+            ds.add_var_attr_string("time", "units", "1")?;
+            ds.add_var_attr_string("time", "long_name", "model step of the snapshot")?;
+            ds.add_var_attr_string("time", "axis", "T")
+        })()
         .map_err(|x| out_err(path, x))?;
     }
     if !vol_fields.is_empty() && nz > 0 {
@@ -449,8 +448,8 @@ pub fn write_netcdf_with(
         w.write_var_f32("x", &xs).map_err(|x| out_err(path, x))?;
         w.write_var_f32("y", &ys).map_err(|x| out_err(path, x))?;
         if want_elev {
-            let ts: Vec<f32> = snapshots.iter().map(|s| s.0 as f32).collect();
-            w.write_var_f32("time", &ts).map_err(|x| out_err(path, x))?;
+            let ts: Vec<f64> = snapshots.iter().map(|s| s.0 as f64).collect();
+            w.write_var_f64("time", &ts).map_err(|x| out_err(path, x))?;
             let mut all = Vec::with_capacity(snapshots.len() * nx * ny);
             for s in snapshots {
                 all.extend_from_slice(&s.1);
