@@ -118,6 +118,11 @@ fn bad_input_is_a_clear_error() {
         (vec!["--profile", "table"], "--profile-table"),
         (vec!["--water-depth", "0.001"], "--water-depth = 0.001"),
         (vec!["--opening", "20"], "--centre-angle"),
+        // a step longer than the default longest path: --ds is the cause
+        (
+            vec!["--ds", "50"],
+            "--ds = 50 m is out of range: expected at most the longest ray path",
+        ),
     ] {
         let mut a = vec!["raytrace", "--length", "2", "--out", out.to_str().unwrap()];
         a.extend(args.iter());
@@ -183,6 +188,39 @@ fn flat_csv(name: &str) -> PathBuf {
     let text: String = (0..=100).map(|x| format!("{x},20\n")).collect();
     std::fs::write(&p, text).unwrap();
     p
+}
+
+/// Options of a floor the run does not build are warned of, not silently recorded.
+#[test]
+fn floor_options_without_effect_are_warned_of() {
+    let flat = flat_csv("flat_unused.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--azimuth",
+        "30",
+        "--seed",
+        "5",
+        "--rays",
+        "10",
+        "--json",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("warning: --azimuth, --seed have no effect: --seafloor-csv gives the section"),
+        "{e}"
+    );
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor-csv",
+        flat.to_str().unwrap(),
+        "--rays",
+        "10",
+        "--json",
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
 }
 
 /// The insonified fraction by length and by vertex.

@@ -34,6 +34,22 @@ fn refused(o: &std::process::Output) -> String {
 }
 
 #[test]
+fn a_bin_or_avalanche_angle_out_of_its_range_is_named_by_its_own_flag() {
+    for (args, want) in [
+        (["--bin-size", "0"], "--bin-size = 0 is out of range"),
+        (
+            ["--avalanche-angle", "0"],
+            "--avalanche-angle = 0 is out of range",
+        ),
+    ] {
+        let mut a = vec!["--steps", "20"];
+        a.extend(args);
+        let e = refused(&run(&a));
+        assert!(e.contains(want) && !e.contains("--layer-thickness"), "{e}");
+    }
+}
+
+#[test]
 fn lattice_steeper_than_the_avalanche_angle_is_refused() {
     // one automaton of 0.5 mm over a 0.5 mm bin: 45 deg against 32
     let out = tmp("steep.nc");

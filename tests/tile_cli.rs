@@ -230,6 +230,39 @@ fn dune_slopes_are_reported_and_steep_dunes_warned() {
 }
 
 #[test]
+fn a_bin_too_short_for_the_generated_automata_is_named_with_the_least_bin() {
+    let mut a = GEN.to_vec();
+    a.extend(["--mosaic", "2x2", "--bin-size", "0.0005"]);
+    let o = cellsurf(&a);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("--bin-size = 0.0005 m is out of range")
+            && e.contains("at least")
+            && e.contains("= 0.0008002 m"),
+        "{e}"
+    );
+    // the least bin shown is accepted
+    let mut a = GEN.to_vec();
+    a.extend([
+        "--mosaic",
+        "2x2",
+        "--bin-size",
+        "0.0008002",
+        "--json",
+        "--quiet",
+    ]);
+    assert!(cellsurf(&a).status.success());
+    // --volume without --out chooses nothing: warned of
+    let mut a = GEN.to_vec();
+    a.extend(["--mosaic", "2x2", "--volume", "impedance", "--json"]);
+    let o = cellsurf(&a);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(e.contains("--volume has no effect without --out"), "{e}");
+}
+
+#[test]
 fn generate_checks_the_flow_regime_and_the_scenario_model() {
     // sheet flow: the ripple model's own regime test refuses it, as `cellsurf ripple` does
     let sheet = tmp("sheet.toml");

@@ -207,6 +207,45 @@ fn profile(a: &Args) -> Result<SoundSpeed> {
 
 /// The floor, the kind of surface it was cut from, and the chunks read from a Zarr store.
 fn floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
+    let built = build_floor(a)?;
+    // Options of a floor this run does not build: said once, not recorded as if they shaped it.
+    let unused = |flags: &[(&str, &str)], why: &str| {
+        let given = conv::given_flags(
+            &flags
+                .iter()
+                .map(|&(id, long)| (id, long, conv::typed(id)))
+                .collect::<Vec<_>>(),
+        );
+        if !given.is_empty() {
+            conv::note(format_args!(
+                "warning: {} {} no effect: {why}",
+                given.join(", "),
+                if given.len() == 1 { "has" } else { "have" }
+            ));
+        }
+    };
+    if a.seafloor_csv.is_some() {
+        unused(
+            &[
+                ("azimuth", "--azimuth"),
+                ("length", "--length"),
+                ("water_depth", "--water-depth"),
+                ("seed", "--seed"),
+            ],
+            "--seafloor-csv gives the section itself (its x, depth rows), so no section is cut and no floor is generated",
+        );
+    } else if a.seafloor.is_some() {
+        unused(
+            &[("seed", "--seed")],
+            "--seafloor gives the surface, so none is generated (the seed draws only a generated floor)",
+        );
+    }
+    Ok(built)
+}
+
+/// The floor of [`floor`]: a CSV section, a section cut from a tile store or a ripple or
+/// mosaic file, or from a generated surface.
+fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
     if let Some(p) = &a.seafloor_csv {
         let f = Seafloor::parse_csv(&read(p, "--seafloor-csv")?)
             .with_context(|| format!("in --seafloor-csv {}", p.display()))?;
@@ -481,6 +520,14 @@ pub fn run(a: Args) -> Result<()> {
     check_source(&a, &fl)?;
     let (x0, x1) = fl.x_range();
     let max_path = a.max_path.unwrap_or(3.0 * (x1 - x0 + fl.max_depth()));
+    // A step longer than the longest path: --ds is the cause where --max-path is the default.
+    if a.max_path.is_none() && a.ds > max_path {
+        bail!(
+            "--ds = {} m is out of range: expected at most the longest ray path, {} m here (--max-path's default, 3 x (the floor's length + its greatest depth)); give a smaller --ds or a --max-path",
+            a.ds,
+            cellsurf::ripple::params::rounded(max_path)
+        );
+    }
     let trace = TraceOptions {
         ds: a.ds,
         max_path,

@@ -406,7 +406,12 @@ fn params(a: &Args) -> Result<RippleParams> {
             p.current_speed
         ));
     }
-    if p.lattice_slope_deg() > p.avalanche_angle {
+    // (a bin or an avalanche angle out of its own range is named by its own check)
+    if p.bin_size > 0.0
+        && p.avalanche_angle > 0.0
+        && p.avalanche_angle < 90.0
+        && p.lattice_slope_deg() > p.avalanche_angle
+    {
         bail!(
             "--layer-thickness = {} m is out of range for --bin-size = {} m and --avalanche-angle = {} deg: one automaton over one bin is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold; expected --layer-thickness at most --bin-size x tan(--avalanche-angle) = {} m (or a larger --bin-size or --avalanche-angle)",
             cellsurf::ripple::params::shown(p.layer_thickness),

@@ -123,7 +123,8 @@ pub struct Args {
     /// e the unit vector of --current-angle and grad D the dune slope in m/m.
     #[arg(long, default_value_t = 3.0)]
     steering: f64,
-    /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side (a
+    /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side and at
+    /// most 16384 (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
     #[arg(long, value_parser = conv::parse_usize)]
     dune_grid: Option<usize>,
@@ -233,6 +234,27 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
     set!(nx, ny, layers, steps, activity, bin_size, current_angle);
     if let Some(s) = &a.snapshots {
         p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
+    }
+    // A --bin-size too short for the scenario's automata (tile has no --layer-thickness):
+    // named by the flag that was typed, with the least bin that holds them.
+    if let Some(b) = a.bin_size
+        && b > 0.0
+        && p.avalanche_angle > 0.0
+        && p.avalanche_angle < 90.0
+        && p.lattice_slope_deg() > p.avalanche_angle
+    {
+        let flag = conv::typed_flag("bin_size").unwrap_or_else(|| "--bin-size".into());
+        bail!(
+            "{flag} = {b} m is out of range for the generated tiles' automata of {} m (the ripple scenario's layer_thickness) at an avalanche angle of {} deg: one automaton over one bin would be steeper than the avalanche angle, which the lattice cannot hold; expected {flag} at least layer_thickness / tan(avalanche_angle) = {} m (or a --ripple-scenario with a thinner layer_thickness)",
+            cellsurf::ripple::params::shown(p.layer_thickness),
+            p.avalanche_angle,
+            {
+                // (rounded up to 4 significant digits, so the value shown is accepted)
+                let least = p.layer_thickness / p.avalanche_angle.to_radians().tan();
+                let unit = 10f64.powi(least.log10().floor() as i32 - 3);
+                cellsurf::ripple::params::rounded((least / unit).ceil() * unit)
+            }
+        );
     }
     p.validate()?;
     for &seed in &run_seeds(a) {
@@ -500,6 +522,12 @@ pub fn run(a: Args) -> Result<()> {
         .count();
     if given > 1 {
         bail!("--out: one mosaic per run (.nc, .npy or .zarr)");
+    }
+    if out.is_none() && !a.dry_run && a.volume.is_some() {
+        let flag = conv::typed_flag("volume").unwrap_or_else(|| "--volume".into());
+        conv::note(format_args!(
+            "warning: {flag} has no effect without --out: it chooses the field the mosaic file holds, and this run writes none (it measures the seams only)"
+        ));
     }
     let zarr = outs.get(Format::Zarr).is_some();
     let format = if outs.get(Format::Npy).is_some() {

@@ -221,6 +221,16 @@ pub fn check_output(option: &str, path: &Path) -> io::Result<()> {
             format!("{option} {}: {why}", path.display()),
         ))
     };
+    // (a name that ends in a separator names a folder: `x.nc/` would otherwise be written as
+    // `x.nc`, or fail only at the final rename)
+    if path
+        .as_os_str()
+        .as_encoded_bytes()
+        .last()
+        .is_some_and(|&b| std::path::is_separator(b as char))
+    {
+        return fail("ends in a path separator, which names a folder; give a file name");
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -326,6 +336,10 @@ mod tests {
             "{e}"
         );
         assert!(check_output("--out", &dir.join("new.nc")).is_ok());
+        // a trailing separator names a folder, not the file before it
+        let slashed = PathBuf::from(format!("{}/", dir.join("new.nc").display()));
+        let e = check_output("--out", &slashed).unwrap_err().to_string();
+        assert!(e.contains("ends in a path separator"), "{e}");
         fs::remove_dir_all(&dir).unwrap();
     }
 

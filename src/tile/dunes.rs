@@ -39,8 +39,8 @@ pub struct DuneParams {
     pub relief: Relief,
     /// Rms dune height, m.
     pub rms: f64,
-    /// Dune-grid nodes along each side: 3 ..= the mosaic's bins along its longer side (a shorter
-    /// side gets at most its own bins).
+    /// Dune-grid nodes along each side: 3 ..= the mosaic's bins along its longer side, at most
+    /// [`MAX_DUNE_GRID`] (a shorter side gets at most its own bins).
     pub grid: usize,
     /// Current direction theta0, degrees counter-clockwise from +x.
     pub current_angle: f64,
@@ -69,18 +69,24 @@ pub struct RippledDunes {
     id: u64,
 }
 
+/// The most dune-grid nodes per side (the synthesis's FFT grid).
+pub const MAX_DUNE_GRID: usize = 1 << 14;
+
 impl RippledDunes {
     /// Ripples from `mosaic` on dunes of `p` spanning the whole mosaic.
     pub fn new(mosaic: Mosaic, p: &DuneParams) -> Result<RippledDunes, TileError> {
         let (w, h) = mosaic.size();
         // (a periodic grid of 2 nodes alternates: its central differences, the slopes the
         // interpolation and the slope statistics use, all vanish)
-        if p.grid < 3 || p.grid > w.max(h) {
+        // (at most the surface's bins along its longer side, and at most 16384, the largest
+        // grid the dune synthesis takes)
+        let most = w.max(h).min(MAX_DUNE_GRID);
+        if p.grid < 3 || p.grid > most {
             return Err(TileError::range(
                 "dune_grid",
                 p.grid,
                 format!(
-                    "3 ..= {} nodes (the surface's bins along its longer side; a periodic grid of 2 nodes has no slope)",
+                    "3 ..= {most} nodes (the surface's bins along its longer side, {}, and at most {MAX_DUNE_GRID}; a periodic grid of 2 nodes has no slope)",
                     w.max(h)
                 ),
             ));
