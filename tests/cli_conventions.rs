@@ -230,6 +230,8 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("s.json"), "{err}");
     assert!(err.contains("no output was written"), "{err}");
+    // and no file rolled back is reported as written
+    assert!(!err.contains("wrote "), "{err}");
     let left: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .flatten()
@@ -238,8 +240,16 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     assert_eq!(left, vec!["s.json".to_string()], "{err}");
     // The same run with the way clear writes all three.
     std::fs::remove_dir(dir.join("s.json")).unwrap();
-    assert!(run().status.success());
+    let out = run();
+    assert!(out.status.success());
     assert!(npy.is_file() && png.is_file() && dir.join("s.json").is_file());
+    // reported once they are in place
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!("wrote {}", npy.display()))
+            && err.contains(&format!("wrote {}", png.display())),
+        "{err}"
+    );
 }
 
 /// A reader that closes standard output early (`| head`) ends the run quietly: exit 0, no

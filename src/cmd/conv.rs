@@ -122,11 +122,10 @@ pub fn quiet() -> bool {
     QUIET.load(Ordering::Relaxed)
 }
 
-/// Reports a file written (on stderr unless `--quiet`) and lists it in the JSON `outputs`.
+/// Lists a file written in the JSON `outputs`; [`finish`] reports it on stderr (unless
+/// `--quiet`) once the run has succeeded and its outputs are in place, so that a file rolled
+/// back by a later failure is never reported as written.
 pub fn wrote(path: &Path) {
-    if !quiet() {
-        eprintln!("wrote {}", path.display());
-    }
     if let Ok(mut w) = WRITTEN.lock() {
         w.push(path.display().to_string());
     }
@@ -257,7 +256,14 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
     };
     let result = result.and_then(|()| Ok(cellsurf::engine::io::publish_held()?));
     match result {
-        Ok(()) => std::process::ExitCode::SUCCESS,
+        Ok(()) => {
+            if !quiet() {
+                for f in written() {
+                    eprintln!("wrote {f}");
+                }
+            }
+            std::process::ExitCode::SUCCESS
+        }
         Err(e) => {
             let dropped = cellsurf::engine::io::discard_held();
             eprintln!("error: {}", render_error(&e));
