@@ -1069,3 +1069,53 @@ fn flags_without_effect_are_warned() {
         assert!(!e.contains("no effect"), "{extra:?}: {e}");
     }
 }
+
+/// The volume's size limit states the formula it checks, with the run's numbers: evaluated on
+/// a refused size it exceeds the stated limit, and on the accepted neighbour (one layer less)
+/// it does not.
+#[test]
+fn the_size_limit_states_the_formula_it_checks() {
+    let o = cellsurf(&[
+        "ripple",
+        "--size",
+        "8192x8192",
+        "--layers",
+        "63",
+        "--print-scenario",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("--size (nx) = 8192 is out of range"), "{err}");
+    let num = |after: &str| -> u128 {
+        let rest =
+            &err[err.find(after).unwrap_or_else(|| panic!("{after}: {err}")) + after.len()..];
+        let digits: String = rest.chars().take_while(|c| c.is_ascii_digit()).collect();
+        digits.parse().unwrap_or_else(|_| panic!("{after}: {err}"))
+    };
+    let limit = num("at most 2^33 = ");
+    assert_eq!(limit, 1 << 33);
+    // "layers + roughness + headroom = L + R + H = CAP", "here NX x NY x CAP = SLOTS"
+    let (layers, roughness) = (
+        num("layers + roughness + headroom = "),
+        num("layers + roughness + headroom = 63 + "),
+    );
+    let headroom = num(&format!("= {layers} + {roughness} + "));
+    let cap = layers + roughness + headroom;
+    assert_eq!(layers, 63);
+    assert_eq!(num(&format!("{headroom} = ")), cap, "{err}");
+    assert!(err.contains("max(layers, 48)"), "{err}");
+    let slots = num(&format!("here 8192 x 8192 x {cap} = "));
+    assert_eq!(slots, 8192 * 8192 * cap);
+    assert!(slots > limit, "{err}");
+    // the neighbour: one layer less, its automatic headroom max(62, 48) = 62
+    let o = cellsurf(&[
+        "ripple",
+        "--size",
+        "8192x8192",
+        "--layers",
+        "62",
+        "--print-scenario",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(8192 * 8192 * (62 + roughness + 62) <= limit);
+}

@@ -302,6 +302,10 @@ pub fn shown(v: f64) -> String {
     }
 }
 
+/// The most automata slots of a run's volume: columns x column capacity
+/// ([`RippleParams::capacity`]).
+pub const MAX_SLOTS: u64 = 1 << 33;
+
 /// Keys of older scenario files that were renamed: (old, new).
 pub const RENAMED_KEYS: [(&str, &str); 1] = [("recovery_length", "drag_delay")];
 
@@ -489,6 +493,29 @@ impl RippleParams {
         self.layers + self.roughness + head
     }
 
+    /// What the volume's size limit expects, with this run's numbers: the slots are the columns
+    /// (`nx x ny`, `ny` = 1 in 2-D) times a column's capacity ([`RippleParams::capacity`]).
+    fn slots_expected(&self) -> String {
+        let cap = self.capacity();
+        let head = cap - self.layers - self.roughness;
+        let head_note = if self.headroom == 0 {
+            format!(" (headroom 0: automatic, max(layers, 48) = {head})")
+        } else {
+            String::new()
+        };
+        let (nx, ny) = (self.nx as u128, self.rows() as u128);
+        let columns_max = MAX_SLOTS / cap as u64;
+        format!(
+            "nx x ny x capacity at most 2^33 = {MAX_SLOTS} automata slots, a column's capacity \
+             being layers + roughness + headroom = {} + {} + {head} = {cap}{head_note}: here \
+             {nx} x {ny} x {cap} = {}; at this capacity nx x ny at most {columns_max} columns \
+             (or fewer layers)",
+            self.layers,
+            self.roughness,
+            nx * ny * cap as u128,
+        )
+    }
+
     /// Checks every parameter; the error names the parameter, its value and the valid range.
     pub fn validate(&self) -> Result<(), RippleError> {
         if self.seed > 1 << 53 {
@@ -535,12 +562,8 @@ impl RippleParams {
             ));
         }
         let cells = self.nx as u128 * self.rows() as u128 * self.capacity() as u128;
-        if cells > (1u128 << 33) {
-            return Err(range(
-                "nx",
-                self.nx,
-                "nx x ny x (layers + roughness + headroom) at most 2^33 automata slots",
-            ));
+        if cells > MAX_SLOTS as u128 {
+            return Err(range("nx", self.nx, &self.slots_expected()));
         }
         check_f("bin_size", self.bin_size, 0.0, 100.0, true, false)?;
         check_f(
