@@ -521,3 +521,40 @@ fn hurst_without_effect_is_warned() {
     assert!(!run(&["--hurst", "0.5"]).contains("has no effect"));
     assert!(!run(&["--dune-wavelength", "0.1"]).contains("has no effect"));
 }
+
+/// A --tile that exists but is no NetCDF file is refused for what it is (a folder, a Zarr
+/// store, not a NetCDF-3 file), never as "no such file".
+#[test]
+fn a_tile_that_is_not_a_netcdf_file_is_refused_for_what_it_is() {
+    let dir = tmp("not-a-file");
+    let store = tmp("a-store.zarr");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&store).unwrap();
+    let cases = [
+        (dir.to_str().unwrap().to_string(), "a folder, not a file"),
+        (
+            store.to_str().unwrap().to_string(),
+            "a Zarr store (a folder), not a NetCDF file: only NetCDF (.nc) ripple files are read here; write the run as one with `cellsurf ripple --out FILE.nc`",
+        ),
+        ("/dev/null".to_string(), "not a NetCDF-3 file"),
+    ];
+    for (path, why) in cases {
+        let o = cellsurf(&["tile", "--tile", &path, "--mosaic", "2x2"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{path}: {err}");
+        assert!(
+            err.contains(&format!("--tile {path}")) && err.contains(why),
+            "{path}: {err}"
+        );
+        assert!(!err.contains("no such file"), "{path}: {err}");
+    }
+    let missing = tmp("absent.nc");
+    let o = cellsurf(&[
+        "tile",
+        "--tile",
+        missing.to_str().unwrap(),
+        "--mosaic",
+        "2x2",
+    ]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no such file"));
+}

@@ -71,10 +71,49 @@ fn read_err(path: &Path, reason: impl std::fmt::Display) -> RippleError {
     }
 }
 
+/// Why `path` cannot be read as a ripple NetCDF file before it is opened, if it cannot: it
+/// does not exist, it is a folder (a Zarr store or another), or it is a pipe or a socket,
+/// which would be waited on. A device is left to the NetCDF reader (`/dev/null`: not a
+/// NetCDF-3 file).
+fn not_a_file(path: &Path) -> Option<String> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Some("no such file".into()),
+        Err(e) => return Some(e.to_string()),
+    };
+    let kind = meta.file_type();
+    if kind.is_dir() {
+        let zarr = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
+            || path.join("zarr.json").is_file();
+        return Some(if zarr {
+            "a Zarr store (a folder), not a NetCDF file: only NetCDF (.nc) ripple files are read \
+             here; write the run as one with `cellsurf ripple --out FILE.nc` (the same scenario \
+             and seed give the same run)"
+                .into()
+        } else {
+            "a folder, not a file: expected a ripple NetCDF file (`cellsurf ripple --out FILE.nc`)"
+                .into()
+        });
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() || kind.is_socket() {
+            return Some(format!(
+                "not a NetCDF-3 file (a {}, not a regular file)",
+                if kind.is_fifo() { "pipe" } else { "socket" }
+            ));
+        }
+    }
+    None
+}
+
 /// Reads a ripple NetCDF file. Errors name the file and what is missing or inconsistent.
 pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
-    if !path.is_file() {
-        return Err(read_err(path, "no such file"));
+    if let Some(reason) = not_a_file(path) {
+        return Err(read_err(path, reason));
     }
     let mut r = FileReader::open(path).map_err(|e| read_err(path, describe(&e)))?;
     let ds = r.data_set();
