@@ -480,6 +480,80 @@ fn a_run_larger_than_the_process_may_have_is_refused_by_name() {
     );
 }
 
+/// `cellsurf ARGS` under `ulimit -v 600000` (600 MB of address space): its exit code and
+/// standard error.
+fn under_600_mb(args: &str) -> (Option<i32>, String) {
+    let bin = env!("CARGO_BIN_EXE_cellsurf");
+    let out = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(format!("ulimit -v 600000 && exec {bin} {args}"))
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A ripple volume larger than the process may have is refused by --size and --layers.
+#[test]
+fn a_ripple_run_larger_than_the_process_may_have_is_refused_by_name() {
+    let (code, err) = under_600_mb("ripple --size 4096x4096 --layers 30 --steps 1 --quiet");
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("error: --size 4096x4096 with --layers 30 needs about")
+            && err.contains("ulimit -v")
+            && err.contains("choose a smaller one"),
+        "{err}"
+    );
+    // a small run is not refused
+    let (code, err) = under_600_mb("ripple --size 64x32 --layers 10 --steps 5 --quiet");
+    assert_eq!(code, Some(0), "{err}");
+}
+
+/// The runs of `tile --generate`, and a mosaic index larger than the process may have, are
+/// refused by name.
+#[test]
+fn a_tile_run_larger_than_the_process_may_have_is_refused_by_name() {
+    let (code, err) = under_600_mb(
+        "tile --generate --size 4096x4096 --layers 30 --steps 1 --mosaic 1x1 --quiet --dry-run",
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains(
+            "error: --size 4096x4096 with --layers 30 (1 tile of the --generate runs) needs about"
+        ) && err.contains("ulimit -v"),
+        "{err}"
+    );
+    let (code, err) = under_600_mb(
+        "tile --generate --size 16x16 --layers 5 --steps 1 --mosaic 16000x16000 --quiet --dry-run",
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("error: --mosaic 16000x16000 needs about") && err.contains("ulimit -v"),
+        "{err}"
+    );
+    let (code, err) = under_600_mb(
+        "tile --generate --size 16x16 --layers 5 --steps 1 --mosaic 4x4 --quiet --dry-run",
+    );
+    assert_eq!(code, Some(0), "{err}");
+}
+
+/// A raytrace section longer than the process may hold is refused by --length.
+#[test]
+fn a_raytrace_section_larger_than_the_process_may_have_is_refused_by_name() {
+    let (code, err) = under_600_mb("raytrace --length 100000 --rays 2 --quiet");
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("error: --length 100000 (20000000 samples of 0.005 m) needs about")
+            && err.contains("ulimit -v"),
+        "{err}"
+    );
+    let (code, err) = under_600_mb("raytrace --length 100 --rays 2 --quiet");
+    assert_eq!(code, Some(0), "{err}");
+}
+
 /// A sand quantity below one grain per cell runs, and says that nothing will move.
 #[test]
 fn a_dune_grid_without_sand_says_so() {

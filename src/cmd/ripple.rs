@@ -572,6 +572,42 @@ fn parse_seed(s: &str) -> Result<u64, String> {
 }
 
 /// Runs the subcommand.
+/// Bytes a ripple run of `p` allocates, holding `snapshots` elevation snapshots and, where
+/// `volume_out`, writing a volume field: 2 per automaton slot (the volume's `u16` automata,
+/// `nx x ny x capacity` of them), 140 per column (the per-column arrays of the run), 8 per
+/// column and snapshot, and 8 per column and level of the volume field written (its values
+/// and their bytes), its levels taken halfway from the initial bed's top to the column's
+/// capacity; 10% added. Measured as the least `ulimit -v` a run of one step needs, less the
+/// program's own 22 MB: 1024x1024 columns 312 MB at --layers 30 and 1.41 GB at --layers
+/// 300 (2.0 B per slot and 135 B per column), 2048x2048 1.03 GB at --layers 30 (83 B per
+/// column); with --out x.npy, 1024x1024 at --layers 30 took 235 MB more (224 B per column).
+pub fn run_bytes(p: &RippleParams, snapshots: usize, volume_out: bool) -> f64 {
+    let columns = p.nx as f64 * p.rows() as f64;
+    let cap = p.capacity() as f64;
+    let levels = if volume_out {
+        ((p.layers + p.roughness) as f64 + cap) / 2.0
+    } else {
+        0.0
+    };
+    1.1 * columns * (2.0 * cap + 140.0 + 8.0 * snapshots as f64 + 8.0 * levels)
+}
+
+/// Refuses a run of `p` larger than the memory this process may have ([`run_bytes`]), naming
+/// --size and --layers as typed.
+fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Result<()> {
+    conv::check_memory(
+        &format!(
+            "{} {}x{} with {} {}",
+            conv::typed_flag("size").unwrap_or_else(|| "--size".into()),
+            p.nx,
+            p.rows(),
+            conv::typed_flag("layers").unwrap_or_else(|| "--layers".into()),
+            p.layers
+        ),
+        run_bytes(p, snapshots, volume_out),
+    )
+}
+
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
@@ -870,6 +906,9 @@ pub fn run(a: Args) -> Result<()> {
         }
         times = vec![0];
     }
+
+    let volume_out = out.is_some() && spec.fields.iter().any(|f| *f != Field::Elevation);
+    check_run_memory(&p, times.len(), volume_out)?;
 
     let start = Instant::now();
     let mut r = Ripple::new(&p)?;

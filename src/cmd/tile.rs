@@ -364,6 +364,36 @@ impl RippleRecord {
     }
 }
 
+/// Refuses `--generate` runs larger than the memory this process may have: one ripple run at
+/// a time ([`super::ripple::run_bytes`]) and the tiles kept from all of them (`seeds x
+/// snapshots` tiles of an `f32` elevation per column and, with --volume, an `f32` per column
+/// and level, the levels as `run_bytes` takes them), named by --size and --layers as typed.
+fn check_generate_memory(a: &Args, p: &RippleParams, seeds: usize, steps: &[u64]) -> Result<()> {
+    let mut distinct = steps.to_vec();
+    distinct.sort_unstable();
+    distinct.dedup();
+    let tiles = seeds * distinct.len();
+    let columns = p.nx as f64 * p.rows() as f64;
+    let levels = if a.volume.is_some_and(|f| f != Field::Elevation) {
+        ((p.layers + p.roughness) as f64 + p.capacity() as f64) / 2.0
+    } else {
+        0.0
+    };
+    let kept = 1.1 * tiles as f64 * columns * 4.0 * (1.0 + levels);
+    conv::check_memory(
+        &format!(
+            "{} {}x{} with {} {} ({tiles} tile{} of the --generate runs)",
+            conv::typed_flag("size").unwrap_or_else(|| "--size".into()),
+            p.nx,
+            p.rows(),
+            conv::typed_flag("layers").unwrap_or_else(|| "--layers".into()),
+            p.layers,
+            if tiles == 1 { "" } else { "s" },
+        ),
+        super::ripple::run_bytes(p, 0, false) + kept,
+    )
+}
+
 fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
     let mut tiles = Vec::new();
     for f in &a.tile {
@@ -379,6 +409,7 @@ fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
         let steps = a.snapshots.clone().unwrap_or_else(|| vec![p.steps]);
         let last = steps.iter().copied().max().unwrap_or(0);
         record = Some(RippleRecord::of(&p)?);
+        check_generate_memory(a, &p, seeds.len(), &steps)?;
         let bar = bar(seeds.len() as u64 * last, "ripple tiles", quiet);
         tiles.extend(tiles_from_run(&p, &seeds, &steps, a.volume, |d| {
             if d % 64 == 0 {
@@ -697,6 +728,28 @@ pub fn run(a: Args) -> Result<()> {
             "warning: --hurst = {} has no effect: --dune-wavelength replaces the power-law (fBm) spectrum that the Hurst exponent shapes",
             a.hurst
         ));
+    }
+    // the mosaic's tile index (a u32 per tile laid; Mosaic::new refuses more than 2^28), held
+    // twice with --dunes, whose surface keeps its own copy of the mosaic and its tiles
+    let laid = mx as f64 * my as f64;
+    if laid <= (1u64 << 28) as f64 {
+        let copies = if a.dunes { 2.0 } else { 1.0 };
+        let tile_bytes: f64 = if a.dunes {
+            tiles.iter().map(|t| 4.0 * t.elevation.len() as f64).sum()
+        } else {
+            0.0
+        };
+        let what = match extent_given {
+            Some((e, ..)) if mosaic_given.is_none() => format!(
+                "{} {e} ({mx}x{my} tiles)",
+                conv::typed_flag("extent").unwrap_or_else(|| "--extent".into())
+            ),
+            _ => format!(
+                "{} {mx}x{my}",
+                conv::typed_flag("mosaic").unwrap_or_else(|| "--mosaic".into())
+            ),
+        };
+        conv::check_memory(&what, 1.1 * (copies * 4.0 * laid + tile_bytes))?;
     }
     let mosaic = Mosaic::new(tiles, mx, my, choose, a.seed, a.blend)?;
     let relief = match a.dune_wavelength {
