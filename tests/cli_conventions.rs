@@ -463,17 +463,8 @@ fn a_run_larger_than_the_memory_is_refused_by_name() {
 /// the allocation that fails.
 #[test]
 fn a_run_larger_than_the_process_may_have_is_refused_by_name() {
-    let bin = env!("CARGO_BIN_EXE_cellsurf");
-    let out = std::process::Command::new("bash")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 600000 && exec {bin} grow --lattice square4 --size 16383x16383 --steps 1 --quiet"
-        ))
-        .env_remove("RUST_BACKTRACE")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{err}");
+    let (code, err) = under_600_mb("grow --lattice square4 --size 16383x16383 --steps 1 --quiet");
+    assert_eq!(code, Some(1), "{err}");
     assert!(
         err.contains("--size 16383x16383 needs about 2.7 GB") && err.contains("ulimit -v"),
         "{err}"
