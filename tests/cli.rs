@@ -268,6 +268,19 @@ fn a_default_disc_runs_on_every_size_and_an_empty_start_is_named() {
     assert!(err.contains("--start = 0"), "{err}");
 }
 
+/// `--n -0` is n = 0, recorded as 0 (a scenario file or JSON holding `-0.0` reads as a
+/// different value to a user comparing runs).
+#[test]
+fn a_negative_zero_exponent_is_recorded_as_zero() {
+    let out = cellsurf(&["flame", "--n", "-0", "--steps", "10", "--print-scenario"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(
+        text.contains("\nn = 0.0\n") && !text.contains("-0"),
+        "{text}"
+    );
+}
+
 /// A flag the run does not use is warned about, naming the flag and why (growth scenes and
 /// dunes); the run still succeeds, and the same run where the flag acts has no such warning.
 #[test]
@@ -278,12 +291,15 @@ fn flags_without_effect_are_warned() {
         assert!(out.status.success(), "{args:?}: {err}");
         err
     };
-    let ca_flags = ["--n", "3", "--weight", "axes", "--start", "4"];
+    let ca_flags = [
+        "--n", "3", "--weight", "axes", "--start", "4", "--seed", "9",
+    ];
     let ca = warned(&[&["ca", "--size", "16x16", "--steps", "5"][..], &ca_flags].concat());
     for w in [
         "warning: --n = 3 has no effect",
         "warning: --weight = axes has no effect",
         "warning: --start = 4 has no effect with --shape point",
+        "warning: --seed = 9 has no effect: the deterministic CA",
     ] {
         assert!(ca.contains(w), "{ca}");
     }

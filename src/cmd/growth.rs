@@ -408,6 +408,8 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if a.gif_frames == 0 || a.gif_frames > 2000 {
         bail!("--gif-frames = {} is out of range: 1 to 2000", a.gif_frames);
     }
+    // (n = -0 is n = 0: recorded as 0 in every output, not as -0)
+    c.n += 0.0;
     c.validate().map_err(|e| name_default(e, a))?;
     Ok(c)
 }
@@ -490,8 +492,9 @@ impl RunHooks for CliHooks {
 }
 
 /// The flags given on the command line that this run does not use, each with why: the
-/// deterministic CA has no sticking law (`--n`, `--weight`), the stochastic samplers have no
-/// CA rule (`--ca-rule`), a point seed has no size (`--start`), and the options of an output
+/// deterministic CA has no sticking law and draws no random number (`--n`, `--weight`,
+/// `--seed`), the stochastic samplers have no CA rule (`--ca-rule`), a point seed has no size
+/// (`--start`), and the options of an output
 /// not asked for choose nothing (`--snapshots` without a `.png`, `--series` without a `.csv`,
 /// `--gif-frames` without a `.gif`).
 fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs, outs: &Outputs) -> Vec<String> {
@@ -518,6 +521,13 @@ fn flags_without_effect(cfg: &SceneConfig, a: &GrowArgs, outs: &Outputs) -> Vec<
                 "{} = {} has no effect: the deterministic CA (--sampler ca) has no site weights",
                 flag("weight", "--weight"),
                 cfg.weight
+            ));
+        }
+        if conv::typed("seed") {
+            out.push(format!(
+                "{} = {} has no effect: the deterministic CA (--sampler ca) draws no random number",
+                flag("seed", "--seed"),
+                cfg.seed
             ));
         }
     } else if a.ca_rule.is_some() {
