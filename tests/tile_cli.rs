@@ -113,6 +113,15 @@ fn bad_input_is_named() {
             "hurst = 1.2 is out of range",
         ),
         (&["--extent", "-5x3"][..], "--extent = -5x3 is out of range"),
+        // more tiles than a mosaic lays, named by the flag that asked for them
+        (
+            &["--extent", "1e9x1e9"][..],
+            "--extent = 1e9x1e9 is out of range: it takes",
+        ),
+        (
+            &["--mosaic", "20000x20000"][..],
+            "--mosaic = 20000x20000 is out of range: expected at most 2^28",
+        ),
         (
             &["--volume", "impedance", "--dunes"][..],
             "--volume with --dunes",

@@ -271,6 +271,9 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
     Ok(p)
 }
 
+/// The most tiles a mosaic lays (its tile index: `cellsurf::tile::mosaic`).
+const MAX_TILES: usize = 1 << 28;
+
 /// The seeds of the `--generate` runs: `--seeds`, else `--seed`.
 fn run_seeds(a: &Args) -> Vec<u64> {
     a.seeds.clone().unwrap_or_else(|| vec![a.seed])
@@ -690,13 +693,20 @@ pub fn run(a: Args) -> Result<()> {
         (None, Some((e, w, h))) => {
             let cells = |len: f64, n: usize| (len / (n as f64 * dx) - 1e-9).ceil().max(1.0);
             let (cx, cy) = (cells(w, nx), cells(h, ny));
-            if cx > 1e12 || cy > 1e12 {
-                bail!("--extent = {e} is out of range: too many tiles of {nx}x{ny} bins of {dx} m");
+            if cx * cy > MAX_TILES as f64 {
+                let flag = conv::typed_flag("extent").unwrap_or_else(|| "--extent".into());
+                bail!(
+                    "{flag} = {e} is out of range: it takes {cx}x{cy} tiles of {nx}x{ny} bins of {dx} m, expected at most 2^28 = {MAX_TILES} tiles"
+                );
             }
             (cx as usize, cy as usize)
         }
         (None, None) => (3, 3),
     };
+    if (mx as u128) * (my as u128) > MAX_TILES as u128 {
+        let flag = conv::typed_flag("mosaic").unwrap_or_else(|| "--mosaic".into());
+        bail!("{flag} = {mx}x{my} is out of range: expected at most 2^28 = {MAX_TILES} tiles");
+    }
     let labels: Vec<String> = tiles.iter().map(|t| t.label.clone()).collect();
     // The mosaic is laid in the tiles' frame: its x axis is theirs (east for grid-frame runs,
     // the flow for flow-frame runs); --current-angle is from east, the dunes' current is taken
