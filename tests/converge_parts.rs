@@ -163,3 +163,22 @@ fn the_raytrace_study_splits_by_step_size() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_subcommands_spelling_names_the_wind_ripple_study() {
+    let dir = common::tmp_in("converge-wind-ripples", "x");
+    let dir = dir.parent().unwrap().to_path_buf();
+    std::fs::create_dir_all(&dir).unwrap();
+    let d = dir.display().to_string();
+    // An empty folder: the gather finds no part, and says which figure's parts it looked for.
+    for name in ["wind-ripples", "windripples"] {
+        let r = cellsurf(&["converge", name, "--gather", "--out-dir", &d]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{name}: {err}");
+        assert!(
+            err.contains("no windripples_error_vs_time.part-"),
+            "{name}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

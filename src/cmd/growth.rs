@@ -120,8 +120,9 @@ pub struct ConvergeArgs {
     /// ripple_validation (ripple_validation.png: the ripples against the Soulsby & Whitehouse
     /// and Wiberg & Harris predictors, crest angle against current angle). Writes the figure
     /// and its table (data/FIGURE.csv and .toml) into --out-dir; `cellsurf figures` then
-    /// draws the figure from that table.
-    #[arg(value_parser = ["growth", "dunes", "raytrace", "ripple", "windripples", "ripple_validation"])]
+    /// draws the figure from that table. (`wind-ripples`, the subcommand's name, is taken for
+    /// windripples.)
+    #[arg(value_parser = ["growth", "dunes", "raytrace", "ripple", "windripples", "wind-ripples", "ripple_validation"])]
     study: String,
     /// Folder of the figure and its table.
     #[arg(long, default_value = "figures")]
@@ -774,8 +775,12 @@ fn write_csv(path: &Path, r: &RunResult) -> std::io::Result<()> {
     write_atomic(path, s.as_bytes())
 }
 
-pub fn converge(a: ConvergeArgs) -> Result<()> {
+pub fn converge(mut a: ConvergeArgs) -> Result<()> {
     conv::set_quiet(a.quiet);
+    // the subcommand's spelling names the study and figure prefix `windripples`
+    if a.study == "wind-ripples" {
+        a.study = "windripples".into();
+    }
     if a.study != "growth" {
         if a.json || a.seeds != figures::CONVERGE_SEEDS {
             bail!("--seeds and --json are for `converge growth` only");
