@@ -278,17 +278,82 @@ fn every_documented_command_runs() {
     );
 }
 
+/// The targets of the Markdown links and images on `line` (`[text](target)`), without a
+/// `#anchor` or a title.
+fn link_targets(line: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut rest = line;
+    while let Some(i) = rest.find("](") {
+        let after = &rest[i + 2..];
+        let end = after.find(')').unwrap_or(after.len());
+        let target = after[..end].split([' ', '#']).next().unwrap_or("");
+        out.push(target);
+        rest = &after[end..];
+    }
+    out
+}
+
+/// Whether a link `target` in a file of folder `dir` (relative to the repository root) stays
+/// inside the repository: a web address, an anchor, or a relative path that does not climb
+/// above the root. A root-absolute path (`/figures/x.png`) is refused: it resolves against
+/// the file system's root outside a web host.
+fn stays_inside(dir: &Path, target: &str) -> bool {
+    if target.is_empty() || target.contains("://") || target.starts_with("mailto:") {
+        return true;
+    }
+    if target.starts_with('/') {
+        return false;
+    }
+    let mut depth = dir.components().count() as i64;
+    for part in Path::new(target).components() {
+        match part {
+            std::path::Component::ParentDir => depth -= 1,
+            std::path::Component::Normal(_) => depth += 1,
+            _ => {}
+        }
+        if depth < 0 {
+            return false;
+        }
+    }
+    true
+}
+
+#[test]
+fn link_checks_follow_the_files_folder() {
+    assert!(stays_inside(Path::new("docs"), "../figures/a.png"));
+    assert!(stays_inside(Path::new("docs"), "cli.md"));
+    assert!(stays_inside(Path::new(""), "docs/cli.md"));
+    assert!(!stays_inside(Path::new(""), "../figures/a.png"));
+    assert!(!stays_inside(Path::new("docs"), "../../shared/x"));
+    assert!(!stays_inside(Path::new("docs"), "/figures/a.png"));
+    assert!(stays_inside(Path::new("docs"), "https://doi.org/10.1/x"));
+    assert_eq!(
+        link_targets("![a](../figures/a.png) and [b](cli.md#errors \"t\")"),
+        ["../figures/a.png", "cli.md"]
+    );
+}
+
 #[test]
 fn docs_stay_inside_the_repository() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     for f in doc_files() {
         let text = std::fs::read_to_string(&f).unwrap();
+        let dir = f.parent().unwrap().strip_prefix(root).unwrap();
         for (i, line) in text.lines().enumerate() {
             assert!(
-                !line.contains("../shared") && !line.contains("](../"),
-                "{}:{}: refers to a file outside the repository: {line}",
+                !line.contains("../shared") && !line.contains("/shared/"),
+                "{}:{}: refers to a folder outside the repository: {line}",
                 f.display(),
                 i + 1
             );
+            for target in link_targets(line) {
+                assert!(
+                    stays_inside(dir, target),
+                    "{}:{}: the link {target} leaves the repository (or is root-absolute): {line}",
+                    f.display(),
+                    i + 1
+                );
+            }
         }
     }
     let readme =
