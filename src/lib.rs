@@ -55,6 +55,9 @@
 //! walk.run(1000);
 //! assert_eq!(walk.height_total(), 1000);
 //! ```
+// The library reports through its return values and callbacks, never on the terminal.
+#![deny(clippy::print_stderr, clippy::print_stdout)]
+
 pub mod cursor;
 pub mod dunes;
 pub mod engine;

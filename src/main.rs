@@ -1,4 +1,6 @@
 //! The `cellsurf` program: a thin layer over the library (argument parsing, progress, output).
+// A write to a closed stderr must not panic: lines go through `cmd::conv::err_line`.
+#![deny(clippy::print_stderr)]
 
 use std::process::ExitCode;
 

@@ -555,3 +555,53 @@ fn a_dune_grid_without_sand_says_so() {
     let out = cellsurf(&["dunes", "-d", "-q", "1", "--size", "8", "--steps", "3"]);
     assert!(!String::from_utf8_lossy(&out.stderr).contains("puts no sand"));
 }
+
+/// A reader that closes standard error early (`cellsurf ... 2>&1 | head`) does not turn a run
+/// into a panic: the run finishes with its own status (0 with its outputs in place, 1 for a
+/// refused run), whatever it had to say on stderr ("wrote", warnings, the error).
+#[test]
+fn a_closed_stderr_keeps_the_runs_own_exit_status() {
+    use std::process::{Command, Stdio};
+    let dir = tmp_in("conventions", "closed_stderr");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("f.png");
+    let png = png.to_str().unwrap();
+    // (a run that prints its summary and "wrote", and two refused runs)
+    let cases: [(&[&str], i32); 3] = [
+        (
+            &[
+                "flame",
+                "--size",
+                "32",
+                "--steps",
+                "100",
+                "--sampler",
+                "rejection",
+                "--out",
+                png,
+            ],
+            0,
+        ),
+        (&["dunes", "--size", "2"], 1),
+        (
+            &[
+                "flame", "--size", "32", "--steps", "100", "--out", png, "--seed", "1", "--n", "-1",
+            ],
+            1,
+        ),
+    ];
+    for (args, code) in cases {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Close the reading end before the run prints anything.
+        drop(child.stderr.take());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(code), "{args:?}");
+    }
+    assert!(std::path::Path::new(png).is_file());
+}

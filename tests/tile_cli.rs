@@ -449,7 +449,12 @@ fn generate_options_need_generate_and_angles_have_the_ripple_range() {
         ),
         (
             &["--seed", "9223372036854775808"][..],
-            "--seed = 9223372036854775808 is out of range: expected an integer in [0, 2^63 - 1",
+            "--seed = 9223372036854775808 is out of range",
+        ),
+        // (a NetCDF-3 attribute is a double: 2^53 + 1 would be recorded as 2^53)
+        (
+            &["--seed", "9007199254740993"][..],
+            "--seed = 9007199254740993 is out of range: expected an integer in [0, 2^53 = 9007199254740992]",
         ),
     ] {
         let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
@@ -463,6 +468,7 @@ fn generate_options_need_generate_and_angles_have_the_ripple_range() {
     // the edge of the range is accepted
     let mut a = vec!["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
     a.extend(["--dunes", "--dune-grid", "24", "--current-angle", "-360"]);
+    a.extend(["--seed", "9007199254740992"]);
     let o = cellsurf(&a);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // generated runs: the seeds the ripple model takes (to 2^53), named by the flag given

@@ -134,8 +134,17 @@ pub fn wrote(path: &Path) {
 /// A line of chatter on stderr (not with `--quiet`).
 pub fn note(msg: impl std::fmt::Display) {
     if !quiet() {
-        eprintln!("{msg}");
+        err_line(msg);
     }
+}
+
+/// A line on stderr, whatever `--quiet` says; a failed write (a reader that closed stderr,
+/// as `cellsurf ... 2>&1 | head` does) is ignored, so that it never turns a run, or its exit
+/// status, into a panic (the standard library's print macros panic there; the binary's
+/// clippy lints forbid them).
+pub fn err_line(msg: impl std::fmt::Display) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{msg}");
 }
 
 /// The files reported by [`wrote`] so far.
@@ -259,16 +268,16 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
         Ok(()) => {
             if !quiet() {
                 for f in written() {
-                    eprintln!("wrote {f}");
+                    err_line(format_args!("wrote {f}"));
                 }
             }
             std::process::ExitCode::SUCCESS
         }
         Err(e) => {
             let dropped = cellsurf::engine::io::discard_held();
-            eprintln!("error: {}", render_error(&e));
+            err_line(format_args!("error: {}", render_error(&e)));
             if dropped > 0 {
-                eprintln!("(no output was written: the run failed)");
+                err_line("(no output was written: the run failed)");
             }
             std::process::ExitCode::FAILURE
         }

@@ -61,7 +61,9 @@ fn open_browser(url: &str) {
         "xdg-open"
     };
     if let Err(e) = std::process::Command::new(opener).arg(url).spawn() {
-        eprintln!("--open: cannot start {opener} ({e}); open {url} yourself");
+        super::conv::err_line(format_args!(
+            "--open: cannot start {opener} ({e}); open {url} yourself"
+        ));
     }
 }
 

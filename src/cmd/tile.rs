@@ -476,8 +476,9 @@ fn seam_json(s: &SeamStats) -> serde_json::Value {
     serde_json::json!({ "x": d(&s.x), "y": d(&s.y) })
 }
 
-/// The largest seed: 2^63 - 1, the largest integer a TOML scenario file holds.
-pub const MAX_SEED: u64 = i64::MAX as u64;
+/// The largest seed: 2^53, the largest integer every output records exactly (a NetCDF-3
+/// attribute is a double; the ripple runs of `--generate` take the same range).
+pub const MAX_SEED: u64 = 1 << 53;
 
 /// `--seed` and `--seeds` within `0 ..= MAX_SEED`.
 fn check_seeds(a: &Args) -> Result<()> {
@@ -486,7 +487,7 @@ fn check_seeds(a: &Args) -> Result<()> {
     for (flag, s) in seeds {
         if s > MAX_SEED {
             bail!(
-                "{flag} = {s} is out of range: expected an integer in [0, 2^63 - 1 = {MAX_SEED}] (the largest a scenario file holds)"
+                "{flag} = {s} is out of range: expected an integer in [0, 2^53 = {MAX_SEED}] (every output records it exactly as a number)"
             );
         }
     }
@@ -836,12 +837,12 @@ pub fn run(a: Args) -> Result<()> {
     );
     if !quiet {
         match &out {
-            Some(out) => eprintln!(
+            Some(out) => super::conv::err_line(format_args!(
                 "tile: {size_line}; writing about {} to {}",
                 human(estimate),
                 out.display()
-            ),
-            None if a.dry_run => eprintln!(
+            )),
+            None if a.dry_run => super::conv::err_line(format_args!(
                 "tile: {size_line}; would take about {} as {} (no --out given)",
                 human(estimate),
                 if format == StreamFormat::Npy {
@@ -849,8 +850,10 @@ pub fn run(a: Args) -> Result<()> {
                 } else {
                     "netcdf"
                 }
-            ),
-            None => eprintln!("tile: {size_line}; no --out: measuring the seams only"),
+            )),
+            None => super::conv::err_line(format_args!(
+                "tile: {size_line}; no --out: measuring the seams only"
+            )),
         }
     }
     let (dune_slope, dune_rms, dune_slopes) = match &dunes {
@@ -1039,6 +1042,9 @@ fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
     }
 }
 
+/// How many missing or damaged chunks `tile --check` lists per array on stderr.
+const CHECK_LISTED: usize = 10;
+
 /// `tile --check STORE`: prints the report; an error (non-zero exit) when incomplete.
 fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> {
     if !store.is_dir() {
@@ -1059,26 +1065,48 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
         outln!("{}", serde_json::to_string(&v)?)?;
     } else {
         for arr in &c.arrays {
-            eprintln!(
+            super::conv::err_line(format_args!(
                 "{}: {} of {} chunks complete, {} missing, {} damaged",
                 arr.name,
                 arr.complete,
                 arr.chunks,
                 arr.missing.len(),
                 arr.damaged.len()
-            );
-            for (idx, why) in arr.damaged.iter().take(10) {
-                eprintln!("  damaged chunk {idx:?}: {why}");
+            ));
+            // the first CHECK_LISTED of each kind, and how many more (`--json` lists them all)
+            for (idx, why) in arr.damaged.iter().take(CHECK_LISTED) {
+                super::conv::err_line(format_args!("  damaged chunk {idx:?}: {why}"));
             }
-            for idx in arr.missing.iter().take(10) {
-                eprintln!("  missing chunk {idx:?}");
+            if let Some(more) = arr
+                .damaged
+                .len()
+                .checked_sub(CHECK_LISTED)
+                .filter(|&m| m > 0)
+            {
+                super::conv::err_line(format_args!("  ... and {more} more damaged chunks"));
+            }
+            for idx in arr.missing.iter().take(CHECK_LISTED) {
+                super::conv::err_line(format_args!("  missing chunk {idx:?}"));
+            }
+            if let Some(more) = arr
+                .missing
+                .len()
+                .checked_sub(CHECK_LISTED)
+                .filter(|&m| m > 0)
+            {
+                super::conv::err_line(format_args!(
+                    "  ... and {more} more missing chunks (--json lists every chunk)"
+                ));
             }
         }
         for t in &c.stale_temporaries {
-            eprintln!("stale temporary file (a killed writer): {}", t.display());
+            super::conv::err_line(format_args!(
+                "stale temporary file (a killed writer): {}",
+                t.display()
+            ));
         }
         if let (Some(r), Some(p)) = (&rerun, part) {
-            eprintln!("parts to re-run (of {}): {r:?}", p.count);
+            super::conv::err_line(format_args!("parts to re-run (of {}): {r:?}", p.count));
         }
     }
     if !c.complete {
@@ -1090,7 +1118,7 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
         );
     }
     if !json {
-        eprintln!("{}: complete", store.display());
+        super::conv::err_line(format_args!("{}: complete", store.display()));
     }
     Ok(())
 }
