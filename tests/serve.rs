@@ -192,6 +192,7 @@ async fn bad_requests_get_4xx_naming_the_parameter() {
         "{oops",
         r#"{"cmd": "fly"}"#,
         r#"{"cmd": "speed", "value": -5}"#,
+        r#"{"cmd": "speed", "value": 1.9}"#,
         r#"{"x": 1}"#,
     ] {
         ws.send(Message::Text(bad.into())).await.unwrap();
@@ -200,6 +201,14 @@ async fn bad_requests_get_4xx_naming_the_parameter() {
     }
     let (_, body) = http(&addr, "/api/check?speed=-5", None).await;
     assert!(body.contains("speed"), "{body}");
+    let (_, body) = http(&addr, "/api/check?speed=1.9", None).await;
+    assert!(
+        body.contains("speed = 1.9"),
+        "a fraction is refused, not truncated: {body}"
+    );
+    // a whole number written as a float is one (a JSON body's numbers arrive so)
+    let (status, body) = http(&addr, "/api/check?speed=1e3&width=64.0", None).await;
+    assert_eq!(status, 200, "{body}");
     send(&mut ws, json!({"cmd": "step"})).await;
     let (s, _) = next_of(&mut ws, "stats").await;
     assert!(s["accepted"].as_u64().unwrap() > 0);

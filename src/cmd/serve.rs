@@ -21,9 +21,17 @@ pub struct Args {
     /// Open the page in the default browser (xdg-open / open / start).
     #[arg(long)]
     open: bool,
-    /// Most sessions (open pages) held at once; more are refused.
-    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u64).range(1..=1024))]
+    /// Most sessions (open pages) held at once, 1 to 1024; more are refused.
+    #[arg(long, default_value_t = 64, value_parser = parse_max_sessions)]
     max_sessions: u64,
+}
+
+/// `--max-sessions`: a whole number (`1e2` accepted), 1 to 1024.
+fn parse_max_sessions(s: &str) -> Result<u64, String> {
+    match super::conv::parse_count(s)? {
+        v @ 1..=1024 => Ok(v),
+        v => Err(format!("{v} is out of range: expected 1 to 1024 sessions")),
+    }
 }
 
 /// Runs the server until the process is stopped (Ctrl-C).
@@ -75,4 +83,23 @@ fn parse_host(s: &str) -> Result<std::net::IpAddr, String> {
     s.parse().map_err(|_| {
         format!("'{s}' is not an address to bind: expected an IP address (127.0.0.1, ::1, 0.0.0.0) or localhost")
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_max_sessions;
+
+    #[test]
+    fn max_sessions_takes_whole_numbers_in_its_range() {
+        assert_eq!(parse_max_sessions("1e2"), Ok(100));
+        assert_eq!(parse_max_sessions("1024"), Ok(1024));
+        for bad in ["0", "1025", "1.5", "-1"] {
+            let e = parse_max_sessions(bad).unwrap_err();
+            assert!(
+                e.contains("1 to 1024") || e.contains("not a whole"),
+                "{bad}: {e}"
+            );
+        }
+        assert!(parse_max_sessions("0").unwrap_err().contains("1 to 1024"));
+    }
 }

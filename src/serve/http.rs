@@ -537,9 +537,22 @@ fn command(live: &mut Live, text: &str) -> Result<Cmd, ServeError> {
             Cmd::Redraw
         }
         "speed" => {
+            // a whole number of events (growth) or steps (ripple) per frame: a fraction is
+            // refused, never truncated
+            let whole = |hi: f64| -> Result<u64, ServeError> {
+                let x = number("value", 1.0, hi)?;
+                if x.fract() != 0.0 {
+                    return Err(ServeError::Parameter {
+                        parameter: "value".into(),
+                        value: x.to_string(),
+                        expected: format!("a whole number from 1 to {hi}"),
+                    });
+                }
+                Ok(x as u64)
+            };
             match live {
-                Live::Growth(s) => s.set_speed(number("value", 1.0, 1e5)? as u64),
-                Live::Ripple(s) => s.set_speed(number("value", 1.0, 200.0)? as u64),
+                Live::Growth(s) => s.set_speed(whole(1e5)?),
+                Live::Ripple(s) => s.set_speed(whole(200.0)?),
             }
             Cmd::Redraw
         }

@@ -95,8 +95,24 @@ fn num<T: std::str::FromStr>(
 ) -> Result<Option<T>, ServeError> {
     match q.get(k) {
         None => Ok(None),
-        Some(v) => v.trim().parse().map(Some).map_err(|_| bad(k, v, what)),
+        Some(v) => parse_number(v).map(Some).ok_or_else(|| bad(k, v, what)),
     }
+}
+
+/// `v` as a `T`; for a whole-number `T`, also a whole number written as a float (`1e3`,
+/// `64.0`: a JSON body's numbers arrive so, and the command line and scenario files accept
+/// them), up to 2^53. A fraction (`1.9`) is no whole number: `None`, never truncated.
+fn parse_number<T: std::str::FromStr>(v: &str) -> Option<T> {
+    let t = v.trim();
+    if let Ok(x) = t.parse() {
+        return Some(x);
+    }
+    let f: f64 = t.parse().ok()?;
+    let whole = f.is_finite() && f.fract() == 0.0 && f.abs() <= 9_007_199_254_740_992.0;
+    // (-0.0 reads as 0)
+    whole
+        .then(|| format!("{}", f as i64).parse().ok())
+        .flatten()
 }
 
 /// The preset's scene.
@@ -347,6 +363,21 @@ mod tests {
                 .to_string();
             assert!(e.contains(needle), "{k}={v}: {e}");
         }
+        for (k, v, needle) in [
+            ("speed", "1.9", "speed = 1.9"),
+            ("width", "64.5", "width = 64.5"),
+        ] {
+            let e = GrowthSettings::from_query(&q(&[(k, v)]))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(needle),
+                "a fraction is refused, not truncated: {e}"
+            );
+        }
+        // a whole number written as a float is one
+        let s = GrowthSettings::from_query(&q(&[("speed", "1e3"), ("width", "64.0")])).unwrap();
+        assert_eq!((s.speed, s.scene.width), (1000, 64));
         let e = GrowthSettings::from_query(&q(&[("width", "1024"), ("height", "1024")]))
             .unwrap_err()
             .to_string();
