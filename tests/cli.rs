@@ -218,8 +218,6 @@ fn measured_figures_redraw_from_their_table_byte_for_byte() {
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("raytrace_error_vs_time.csv"));
-    let out = common::cellsurf(&["converge", "dunes", "--seeds", "5"]);
-    assert!(!out.status.success());
     std::fs::remove_dir_all(dir.parent().unwrap()).ok();
 }
 
@@ -341,4 +339,60 @@ fn flags_without_effect_are_warned() {
         let e = warned(&args);
         assert!(!e.contains("has no effect"), "{args:?}: {e}");
     }
+}
+
+/// `converge` and `figures` warn of the flags a run would not use, and refuse an `--out-dir`
+/// that is a file by name, before any work.
+#[test]
+fn figures_and_converge_warn_of_flags_they_do_not_use() {
+    let dir = tmp("figures-flags");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // --seeds (growth only) is warned of with another study, not refused (the gather then
+    // fails: the folder holds no parts)
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = common::cellsurf(&[
+        "converge",
+        "dunes",
+        "--seeds",
+        "5",
+        "--gather",
+        "--out-dir",
+        empty.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("warning: --seeds has no effect with `converge dunes`"),
+        "{err}"
+    );
+    assert!(
+        !out.status.success() && err.contains("no dunes_error_vs_time.part-"),
+        "{err}"
+    );
+    // --list lists every figure: --only and --out-dir are warned of; an --out-dir that is a
+    // file is refused by name before any work
+    let out = common::cellsurf(&["figures", "--list", "--only", "growth_fig3_ca"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: --only has no effect with --list"),
+        "{err}"
+    );
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let out = common::cellsurf(&[
+        "figures",
+        "--only",
+        "growth_fig3_ca",
+        "--out-dir",
+        file.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--out-dir") && err.contains("not a folder"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -15,7 +15,7 @@ pub struct FiguresArgs {
     /// Make only this figure (see --list).
     #[arg(long, value_name = "NAME")]
     only: Option<String>,
-    /// Folder to write into.
+    /// Folder to write into (made, with its parents, if missing).
     #[arg(long, default_value = "figures")]
     out_dir: PathBuf,
     /// List the figures and exit.
@@ -29,6 +29,15 @@ pub struct FiguresArgs {
 pub fn run(a: FiguresArgs) -> Result<()> {
     conv::set_quiet(a.quiet);
     if a.list {
+        // (the list is of every figure; nothing is written)
+        for id in ["only", "out_dir"] {
+            if conv::typed(id) {
+                let flag = conv::typed_flag(id).unwrap_or_else(|| format!("--{id}"));
+                conv::note(format_args!(
+                    "warning: {flag} has no effect with --list (it lists every figure and writes nothing)"
+                ));
+            }
+        }
         for f in figures::all() {
             outln!("{:24} {}", f.name, f.about)?;
         }
@@ -50,6 +59,12 @@ pub fn run(a: FiguresArgs) -> Result<()> {
         }
         None => figures::all().collect(),
     };
+    if a.out_dir.exists() && !a.out_dir.is_dir() {
+        bail!(
+            "--out-dir {}: not a folder (a file of that name exists); give a folder",
+            a.out_dir.display()
+        );
+    }
     let t0 = Instant::now();
     for f in chosen {
         let files =

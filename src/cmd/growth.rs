@@ -782,8 +782,14 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
         a.study = "windripples".into();
     }
     if a.study != "growth" {
-        if a.json || a.seeds != figures::CONVERGE_SEEDS {
-            bail!("--seeds and --json are for `converge growth` only");
+        // (flags that the run would not use are warned of, not refused: docs/cli.md)
+        for id in ["seeds", "json"] {
+            if conv::typed(id) {
+                conv::note(format_args!(
+                    "warning: --{id} has no effect with `converge {}`: it is for `converge growth` only",
+                    a.study
+                ));
+            }
         }
         if a.part.is_some() || a.gather {
             return converge_parts(&a);
