@@ -588,6 +588,26 @@ mod cli {
         assert_eq!(side["parameters"]["size"], "32x32");
         assert_eq!(side["run"]["bins"], 32);
         assert!(side["version"].is_string());
+        // shapes, dims and units, as every .npy sidecar has them
+        let h = &side["fields"]["height"];
+        assert_eq!(h["file"], "a.npy");
+        assert_eq!(h["shape"], serde_json::json!([32, 32]));
+        assert_eq!(h["dims"], serde_json::json!(["x", "y"]));
+        assert!(h["units"].is_string());
+        // the same record whatever the thread count: no timings, no thread count (the file
+        // names, in `outputs` and `fields`, are the only difference)
+        let mut other: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(tmp("b.json")).unwrap()).unwrap();
+        for k in ["elapsed_s", "setup_s", "particle_steps_per_s", "threads"] {
+            assert!(side.get(k).is_none(), "{k} recorded");
+        }
+        let mut side = side;
+        for v in [&mut side, &mut other] {
+            let o = v.as_object_mut().unwrap();
+            o.remove("outputs");
+            o.remove("fields");
+        }
+        assert_eq!(side, other);
     }
 
     #[test]

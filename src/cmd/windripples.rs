@@ -193,6 +193,11 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(p);
         let mut side = summary(&a, &r, threads)?;
         if let Some(o) = side.as_object_mut() {
+            // The file records what the run made, not how fast: the same seed gives the same
+            // bytes on every machine and thread count (timings and threads are in --json).
+            for k in ["elapsed_s", "setup_s", "particle_steps_per_s", "threads"] {
+                o.remove(k);
+            }
             o.insert("parameters_toml".into(), params.describe_toml().into());
             o.insert(
                 "layout".into(),
@@ -200,6 +205,17 @@ pub fn run(a: Args) -> Result<()> {
                     "float64 C-order [ix, iy]: x (across the wind) first, y (the wind) second; \
                      h = count * bins^2 / N, the histogram of the last step"
                 ),
+            );
+            let file = p.file_name().unwrap_or_default().to_string_lossy();
+            o.insert(
+                "fields".into(),
+                serde_json::json!({ "height": {
+                    "file": file,
+                    "dims": ["x", "y"],
+                    "shape": [params.bins, params.bins],
+                    "units": "1",
+                    "long_name": "sand height: particles per bin over the mean (mean 1)",
+                }}),
             );
         }
         let side_path = p.with_extension("json");
