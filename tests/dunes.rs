@@ -739,6 +739,27 @@ mod cli {
         super::common::tmp_in("dunes", name)
     }
 
+    /// The parameters a PNG records are the run's scenario: fed back, the same picture, in
+    /// both modes of the article and in Werner's variant.
+    #[test]
+    fn the_pngs_parameters_reproduce_the_run() {
+        for (i, args) in [
+            &["--size", "24", "--steps", "20", "--seed", "3"][..],
+            &["--dune", "--quantity", "2", "--size", "24", "--steps", "20"][..],
+            &["--variant", "werner", "--size", "24", "--steps", "20"][..],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (a, b) = super::common::png_scenario_round_trip(
+                &tmp(&format!("png-scenario-{i}")),
+                "dunes",
+                args,
+            );
+            assert!(a == b, "{args:?}: the PNGs differ");
+        }
+    }
+
     fn json(args: &[&str]) -> serde_json::Value {
         let out = cellsurf(args);
         assert!(

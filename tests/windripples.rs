@@ -533,6 +533,16 @@ mod cli {
 
     const SMALL: [&str; 6] = ["--steps", "5", "--particles", "5000", "--bins", "32"];
 
+    /// The parameters a PNG records are the run's scenario: fed back, the same picture.
+    #[test]
+    fn the_pngs_parameters_reproduce_the_run() {
+        let mut args = SMALL.to_vec();
+        args.extend(["--kappa", "2", "--seed", "9"]);
+        let (a, b) =
+            super::common::png_scenario_round_trip(&tmp("png-scenario"), "wind-ripples", &args);
+        assert!(a == b, "the PNGs differ");
+    }
+
     #[test]
     fn json_has_the_promised_keys() {
         let mut args = SMALL.to_vec();

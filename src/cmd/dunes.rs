@@ -253,13 +253,9 @@ pub fn run(a: Args) -> Result<()> {
     if s.sand_change != 0 || m.grains().len() != cfg.grid * cfg.grid {
         bail!("internal error: sand changed by {} grains", s.sand_change);
     }
-    // The run's parameters go into the PNG (iTXt `parameters`) and the GIF (a comment), as
-    // for every figure.
-    cellsurf::plot::set_png_parameters(Some(format!(
-        "threshold = {}\n{}",
-        a.threshold,
-        toml::to_string(&cfg).unwrap_or_default()
-    )));
+    // The run's scenario goes into the PNG (iTXt `parameters`) and the GIF (a comment): fed
+    // back to --scenario it makes the same picture.
+    cellsurf::plot::set_png_parameters(Some(conv::scenario_text(&a, "dunes")?));
     if let (Some(r), Some(p)) = (rec.as_ref(), outs.get(Format::Gif)) {
         r.write(p, 480, 8)
             .with_context(|| format!("writing {flag} {}", p.display()))?;

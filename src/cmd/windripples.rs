@@ -182,7 +182,8 @@ pub fn run(a: Args) -> Result<()> {
     bar.finish_and_clear();
 
     if let Some(p) = outs.get(Format::Png) {
-        cellsurf::plot::set_png_parameters(Some(params.describe_toml()));
+        // the run's scenario: fed back to --scenario it makes the same picture
+        cellsurf::plot::set_png_parameters(Some(conv::scenario_text(&a, "wind-ripples")?));
         windripples::figures::draw_height(p, &r)
             .with_context(|| format!("writing {flag} {}", p.display()))?;
         conv::wrote(p);
@@ -198,7 +199,11 @@ pub fn run(a: Args) -> Result<()> {
             for k in ["elapsed_s", "setup_s", "particle_steps_per_s", "threads"] {
                 o.remove(k);
             }
-            o.insert("parameters_toml".into(), params.describe_toml().into());
+            // (a scenario file: fed back to --scenario it makes the same bytes)
+            o.insert(
+                "parameters_toml".into(),
+                conv::scenario_text(&a, "wind-ripples")?.into(),
+            );
             o.insert(
                 "layout".into(),
                 serde_json::json!(

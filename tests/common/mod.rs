@@ -19,3 +19,45 @@ pub fn tmp_in(tag: &str, name: &str) -> PathBuf {
     std::fs::create_dir_all(&d).expect("create a scratch folder");
     d.join(name)
 }
+
+/// The `parameters` text (iTXt chunk) that a PNG written by cellsurf records.
+pub fn png_parameters(path: &std::path::Path) -> Option<String> {
+    let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).ok()?));
+    let reader = dec.read_info().ok()?;
+    reader
+        .info()
+        .utf8_text
+        .iter()
+        .find(|t| t.keyword == "parameters")
+        .and_then(|t| t.get_text().ok())
+}
+
+/// Runs `cellsurf SUB ARGS --out a.png` in `dir`, then the scenario its PNG records with
+/// `--out b.png`, and returns both files' bytes (they must be equal: the recorded parameters
+/// reproduce the run).
+#[cfg(feature = "cli")]
+pub fn png_scenario_round_trip(
+    dir: &std::path::Path,
+    sub: &str,
+    args: &[&str],
+) -> (Vec<u8>, Vec<u8>) {
+    std::fs::create_dir_all(dir).unwrap();
+    let (a, b, s) = (dir.join("a.png"), dir.join("b.png"), dir.join("a.toml"));
+    let mut first = vec![sub];
+    first.extend_from_slice(args);
+    first.extend(["--quiet", "--out", a.to_str().unwrap()]);
+    let o = cellsurf(&first);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = png_parameters(&a).expect("the PNG records its parameters");
+    std::fs::write(&s, text).unwrap();
+    let o = cellsurf(&[
+        sub,
+        "--scenario",
+        s.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        b.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap())
+}
