@@ -605,3 +605,50 @@ fn a_closed_stderr_keeps_the_runs_own_exit_status() {
     }
     assert!(std::path::Path::new(png).is_file());
 }
+
+/// The scenario files of the models other than growth and ripple (`tests/fixtures/model_*.toml`):
+/// each `model_bad_*` is refused in one line naming the key, its value and what the option
+/// takes (its first line says what the message must hold: `# expect: NEEDLE | NEEDLE`), never
+/// in the parser's words (Rust types, enum names); each `model_good_*` runs.
+#[test]
+fn model_scenario_fixtures_are_refused_by_key_or_run() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+    let mut seen = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if !name.starts_with("model_") || !name.ends_with(".toml") {
+            continue;
+        }
+        seen += 1;
+        let text = std::fs::read_to_string(&p).unwrap();
+        let model = text
+            .lines()
+            .find_map(|l| l.strip_prefix("model = \""))
+            .and_then(|r| r.split('"').next())
+            .unwrap()
+            .to_lowercase();
+        let out = cellsurf(&[&model, "--scenario", p.to_str().unwrap(), "--quiet"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        if name.starts_with("model_good_") {
+            assert!(out.status.success(), "{name}: {err}");
+            continue;
+        }
+        assert_eq!(out.status.code(), Some(1), "{name}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{name}: one line: {err}");
+        for bad in ["u64", "f64", "enum", "invalid type"] {
+            assert!(!err.contains(bad), "{name}: the parser's words: {err}");
+        }
+        let expect = text
+            .lines()
+            .next()
+            .unwrap()
+            .strip_prefix("# expect:")
+            .unwrap();
+        for needle in expect.split('|').map(str::trim) {
+            assert!(err.contains(needle), "{name}: no '{needle}' in {err}");
+        }
+    }
+    assert!(seen >= 6, "{seen} fixtures");
+}

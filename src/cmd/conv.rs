@@ -790,6 +790,16 @@ pub fn scenario_text<A: Serialize>(args: &A, model: &str) -> Result<String> {
     Ok(s)
 }
 
+/// The models whose scenario files name them (`model = "..."`), each a subcommand.
+const MODELS: &[&str] = &[
+    "ripple",
+    "tile",
+    "raytrace",
+    "wind-ripples",
+    "dunes",
+    "cursor",
+];
+
 /// The options of a run from `--scenario FILE` (if given) and the command line: a value typed
 /// on the command line wins, then the file's, then the option's default. The file must name
 /// this model and only its parameters.
@@ -809,17 +819,25 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
         .with_context(|| format!("{flag} {} is not TOML", path.display()))?;
     match file.remove("model") {
         Some(toml::Value::String(m)) if m == model => {}
-        Some(toml::Value::String(m)) => bail!(
+        Some(toml::Value::String(m)) if MODELS.contains(&m.as_str()) => bail!(
             "{flag} {} is a '{m}' scenario, not '{model}': run `cellsurf {m} --scenario {}`",
             path.display(),
             path.display()
+        ),
+        Some(toml::Value::String(m)) => bail!(
+            "{flag} {}: model = \"{m}\" is not a model of cellsurf: expected `model = \"{model}\"` \
+             here (the models: {})",
+            path.display(),
+            MODELS.join(", ")
         ),
         _ => bail!(
             "{flag} {}: the file must name its model, `model = \"{model}\"`",
             path.display()
         ),
     }
-    let mut merged = table(&args)?;
+    let defaults = table(&args)?;
+    let mut merged = defaults.clone();
+    let mut from_file = Vec::new();
     for (k, v) in file {
         if is_io(&k) || !merged.contains_key(&k) && !known_option(&k) {
             bail!(
@@ -829,12 +847,112 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
             );
         }
         if !typed(&k) {
+            let v = whole_where_needed::<A>(&defaults, &k, v);
+            from_file.push((k.clone(), v.clone()));
             merged.insert(k, v);
         }
     }
-    toml::Value::Table(merged)
-        .try_into()
-        .with_context(|| format!("in {flag} {}", path.display()))
+    match toml::Value::Table(merged).try_into() {
+        Ok(a) => Ok(a),
+        Err(e) => {
+            // Name the key at fault, its value and what the option takes, in one line (the
+            // parser's own message names Rust types).
+            for (k, v) in &from_file {
+                if !fits::<A>(&defaults, k, v) {
+                    bail!(
+                        "{flag} {}: {k} = {v} is not a valid value: {}",
+                        path.display(),
+                        expected_by_option(k, v)
+                    );
+                }
+            }
+            Err(e).with_context(|| format!("in {flag} {}", path.display()))
+        }
+    }
+}
+
+/// Whether the options `defaults` with `k = v` read as an `A`.
+fn fits<A: DeserializeOwned>(defaults: &toml::Table, k: &str, v: &toml::Value) -> bool {
+    let mut t = defaults.clone();
+    t.insert(k.to_string(), v.clone());
+    toml::Value::Table(t).try_into::<A>().is_ok()
+}
+
+/// A whole number written as a float in a scenario (`steps = 2.0`, `1e4`) read as the
+/// integer a whole-number option takes, as the command line reads `--steps 1e4`; any other
+/// value as it is.
+fn whole_where_needed<A: DeserializeOwned>(
+    defaults: &toml::Table,
+    k: &str,
+    v: toml::Value,
+) -> toml::Value {
+    if let toml::Value::Float(f) = v
+        && f.is_finite()
+        && f.fract() == 0.0
+        && f.abs() <= 9_007_199_254_740_992.0
+        && !fits::<A>(defaults, k, &v)
+    {
+        let whole = toml::Value::Integer(f as i64);
+        if fits::<A>(defaults, k, &whole) {
+            return whole;
+        }
+    }
+    v
+}
+
+/// What the option `id` takes, said by its own parser of `v` written as on the command line
+/// (`'16.5' is not a whole number ...`), else the first line of its help.
+fn expected_by_option(id: &str, v: &toml::Value) -> String {
+    use std::error::Error as _;
+    let text = match v {
+        toml::Value::String(s) => s.clone(),
+        toml::Value::Integer(i) => i.to_string(),
+        toml::Value::Float(f) => f.to_string(),
+        toml::Value::Boolean(b) => b.to_string(),
+        toml::Value::Array(a) => a
+            .iter()
+            .map(|x| match x {
+                toml::Value::String(s) => s.clone(),
+                x => x.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join(","),
+        other => other.to_string(),
+    };
+    let Some(inv) = INVOCATION.get() else {
+        return "see --help".into();
+    };
+    let Some(arg) = inv.command.get_arguments().find(|a| a.get_id() == id) else {
+        return "see --help".into();
+    };
+    let help = || {
+        arg.get_help()
+            .map(|h| h.to_string())
+            .and_then(|h| h.lines().next().map(str::to_string))
+            .map_or_else(|| "see --help".into(), |h| format!("expected {h}"))
+    };
+    let Some(long) = arg.get_long() else {
+        return help();
+    };
+    // (the subcommand's own parser, on `--long=value` alone)
+    let parsed = inv
+        .command
+        .clone()
+        .no_binary_name(true)
+        .try_get_matches_from([format!("--{long}={text}")]);
+    match parsed {
+        Err(e) if e.kind() == clap::error::ErrorKind::ValueValidation => match e.source() {
+            Some(s) if s.is::<std::num::ParseIntError>() => {
+                "expected a whole number, 0 or more".into()
+            }
+            Some(s) if s.is::<std::num::ParseFloatError>() => {
+                "expected a number (e.g. 0.5 or 1e-3)".into()
+            }
+            Some(s) => s.to_string(),
+            None => help(),
+        },
+        _ => help(),
+    }
 }
 
 /// Whether the subcommand has an option with this id (an optional one may be absent from the
