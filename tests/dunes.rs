@@ -739,6 +739,41 @@ mod cli {
         super::common::tmp_in("dunes", name)
     }
 
+    /// A scenario's value of an option the mode does not use is warned of by its key (the
+    /// command line refuses the flag); the keys --print-scenario writes at their defaults are
+    /// not.
+    #[test]
+    fn a_scenarios_unused_keys_are_warned_of() {
+        let dir = tmp("unused-keys");
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("s.toml");
+        std::fs::write(
+            &f,
+            "model = \"dunes\"\ndune = true\nwind = 5.0\nsize = 16\nsteps = 2\n",
+        )
+        .unwrap();
+        let o = cellsurf(&["dunes", "--scenario", f.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            err.contains("warning: the scenario's wind = 5 has no effect"),
+            "{err}"
+        );
+        let o = cellsurf(&[
+            "dunes",
+            "--dune",
+            "-q",
+            "2",
+            "--size",
+            "16",
+            "--print-scenario",
+        ]);
+        std::fs::write(&f, &o.stdout).unwrap();
+        let o = cellsurf(&["dunes", "--scenario", f.to_str().unwrap(), "--steps", "2"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !err.contains("warning"), "{err}");
+    }
+
     /// The parameters a PNG records are the run's scenario: fed back, the same picture, in
     /// both modes of the article and in Werner's variant.
     #[test]

@@ -573,3 +573,38 @@ fn a_tile_that_is_not_a_netcdf_file_is_refused_for_what_it_is() {
     ]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("no such file"));
 }
+
+/// A scenario's value of a generating option without `generate = true` is warned of by its
+/// key (the command line refuses the flag); a printed scenario, which holds every key at its
+/// default, runs without a warning.
+#[test]
+fn a_scenarios_generating_keys_without_generate_are_warned_of() {
+    let r = nc_ripple();
+    let f = tmp("gen-keys.toml");
+    let text = format!(
+        "model = \"tile\"\ntile = [{:?}]\nmosaic = \"2x2\"\nlayers = 5\nactivity = 0.5\n",
+        r.to_str().unwrap()
+    );
+    std::fs::write(&f, text).unwrap();
+    let o = cellsurf(&["tile", "--scenario", f.to_str().unwrap(), "--json"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    for key in ["layers = 5", "activity = 0.5"] {
+        assert!(
+            err.contains(&format!("warning: the scenario's {key} has no effect")),
+            "{key}: {err}"
+        );
+    }
+    let o = cellsurf(&[
+        "tile",
+        "--tile",
+        r.to_str().unwrap(),
+        "--mosaic",
+        "2x2",
+        "--print-scenario",
+    ]);
+    std::fs::write(&f, &o.stdout).unwrap();
+    let o = cellsurf(&["tile", "--scenario", f.to_str().unwrap(), "--json"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !err.contains("warning"), "{err}");
+}

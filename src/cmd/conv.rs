@@ -102,6 +102,34 @@ pub fn typed_flag(id: &str) -> Option<String> {
     arg.get_long().map(|l| format!("--{l}"))
 }
 
+/// Whether the option `id` holds `value` (as the command line writes it) because a scenario
+/// file set it away from the option's default: not typed, and not the default (numbers
+/// compared as numbers). An option without a default counts as set when it holds a value.
+pub fn set_by_scenario(id: &str, value: &str) -> bool {
+    if typed(id) {
+        return false;
+    }
+    let Some(inv) = INVOCATION.get() else {
+        return false;
+    };
+    let Some(arg) = inv.command.get_arguments().find(|a| a.get_id() == id) else {
+        return false;
+    };
+    let same = |d: &std::ffi::OsStr| {
+        let d = d.to_string_lossy();
+        match (d.trim().parse::<f64>(), value.trim().parse::<f64>()) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => d == value,
+        }
+    };
+    let defaults = arg.get_default_values();
+    if defaults.is_empty() {
+        // a flag (false by default) or an option without a default
+        return value != "false";
+    }
+    !defaults.iter().any(|d| same(d))
+}
+
 /// The flags among `(id, long, given)` that were given, each as the user typed it (else its
 /// long name), in the order listed.
 pub fn given_flags(flags: &[(&str, &str, bool)]) -> Vec<String> {
@@ -900,25 +928,23 @@ fn whole_where_needed<A: DeserializeOwned>(
     v
 }
 
-/// What the option `id` takes, said by its own parser of `v` written as on the command line
-/// (`'16.5' is not a whole number ...`), else the first line of its help.
-fn expected_by_option(id: &str, v: &toml::Value) -> String {
-    use std::error::Error as _;
-    let text = match v {
+/// A scenario value written as the command line writes it (`1,2` for an array).
+pub fn cli_text(v: &toml::Value) -> String {
+    match v {
         toml::Value::String(s) => s.clone(),
         toml::Value::Integer(i) => i.to_string(),
         toml::Value::Float(f) => f.to_string(),
         toml::Value::Boolean(b) => b.to_string(),
-        toml::Value::Array(a) => a
-            .iter()
-            .map(|x| match x {
-                toml::Value::String(s) => s.clone(),
-                x => x.to_string(),
-            })
-            .collect::<Vec<_>>()
-            .join(","),
+        toml::Value::Array(a) => a.iter().map(cli_text).collect::<Vec<_>>().join(","),
         other => other.to_string(),
-    };
+    }
+}
+
+/// What the option `id` takes, said by its own parser of `v` written as on the command line
+/// (`'16.5' is not a whole number ...`), else the first line of its help.
+fn expected_by_option(id: &str, v: &toml::Value) -> String {
+    use std::error::Error as _;
+    let text = cli_text(v);
     let Some(inv) = INVOCATION.get() else {
         return "see --help".into();
     };

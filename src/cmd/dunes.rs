@@ -143,7 +143,14 @@ fn config(a: &Args) -> Result<DuneConfig> {
     if !(1..=1_000_000).contains(&a.hop) {
         bail!("hop = {} is out of range: expected 1 to 10^6 cells", a.hop);
     }
-    // An option the chosen model does not use is refused, not ignored.
+    // An option the chosen model does not use is refused, not ignored; a scenario file's
+    // value of it (away from its default: --print-scenario writes every key) is warned of.
+    let value = |id: &str| match id {
+        "quantity" => a.quantity.to_string(),
+        "wind" => a.wind.to_string(),
+        "hop" => a.hop.to_string(),
+        _ => a.dune.to_string(),
+    };
     let unused = |id: &str, applies: &str| -> Result<()> {
         if conv::typed(id) {
             let flag = conv::typed_flag(id).unwrap_or_else(|| format!("--{id}"));
@@ -151,6 +158,13 @@ fn config(a: &Args) -> Result<DuneConfig> {
                 "{flag} applies to {applies}, not to {mode}",
                 mode = describe_mode(mode)
             );
+        }
+        if conv::set_by_scenario(id, &value(id)) {
+            conv::note(format_args!(
+                "warning: the scenario's {id} = {} has no effect: it applies to {applies}, not to {mode}",
+                value(id),
+                mode = describe_mode(mode)
+            ));
         }
         Ok(())
     };

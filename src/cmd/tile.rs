@@ -643,6 +643,17 @@ pub fn run(a: Args) -> Result<()> {
                 bail!("{flag} applies to rippled dunes only: add --dunes");
             }
         }
+        warn_scenario_keys(
+            &a,
+            &[
+                "hurst",
+                "dune_rms",
+                "dune_wavelength",
+                "steering",
+                "dune_grid",
+            ],
+            "rippled dunes only (dunes = true)",
+        )?;
     }
     if !a.generate {
         for id in [
@@ -663,6 +674,19 @@ pub fn run(a: Args) -> Result<()> {
                 );
             }
         }
+        warn_scenario_keys(
+            &a,
+            &[
+                "ripple_scenario",
+                "size",
+                "layers",
+                "steps",
+                "activity",
+                "bin_size",
+                "seeds",
+            ],
+            "tiles generated in-process only (generate = true)",
+        )?;
     }
     if a.dunes && a.volume.is_some() {
         bail!(
@@ -1040,6 +1064,24 @@ fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
         ),
         _ => Ok(()),
     }
+}
+
+/// Warns of each of `ids` that a scenario file set away from its default although it
+/// applies to `applies` only (the command line refuses such a flag; a scenario written by
+/// --print-scenario holds every key, so only a value away from the default is named).
+fn warn_scenario_keys(a: &Args, ids: &[&str], applies: &str) -> Result<()> {
+    let t = conv::scenario_table(a)?;
+    for id in ids {
+        if let Some(v) = t.get(*id) {
+            let v = conv::cli_text(v);
+            if conv::set_by_scenario(id, &v) {
+                conv::note(format_args!(
+                    "warning: the scenario's {id} = {v} has no effect: it applies to {applies}"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// How many missing or damaged chunks `tile --check` lists per array on stderr.
