@@ -1119,3 +1119,131 @@ fn the_size_limit_states_the_formula_it_checks() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(8192 * 8192 * (62 + roughness + 62) <= limit);
 }
+
+/// `--print-scenario` keeps what was asked in seconds, `duration_s` and `wave_period_s` in
+/// place of `steps` and `wave_period` in steps: the scenario reruns the same run, whose output
+/// file is byte for byte the direct run's (which records `duration_s` and `wave_period_s`);
+/// a run given in steps keeps its steps.
+#[test]
+fn a_printed_scenario_keeps_the_seconds_and_reruns_the_same_bytes() {
+    let base = [
+        "ripple",
+        "--size",
+        "24x12",
+        "--layers",
+        "10",
+        "--current-angle",
+        "30",
+        "--d50",
+        "0.3",
+    ];
+    let waves = ["--wave-velocity", "0.2", "--wave-period", "8s"];
+    for (i, extra) in [
+        vec!["--duration", "20s"],
+        [&["--duration", "20s"][..], &waves[..]].concat(),
+        [&["--steps", "300"][..], &waves[..]].concat(),
+        vec!["--steps", "300"],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let args = [&base[..], &extra[..]].concat();
+        let o = cellsurf(&[&args[..], &["--print-scenario"]].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        let has = |k: &str| text.lines().any(|l| l.starts_with(&format!("{k} = ")));
+        let (duration, period) = (
+            extra.contains(&"--duration"),
+            extra.contains(&"--wave-period"),
+        );
+        assert_eq!(has("duration_s"), duration, "{extra:?}\n{text}");
+        assert_eq!(has("steps"), !duration, "{extra:?}\n{text}");
+        assert_eq!(has("wave_period_s"), period, "{extra:?}\n{text}");
+        assert_eq!(has("wave_period"), !period, "{extra:?}\n{text}");
+        let scene = tmp(&format!("seconds-{i}.toml"));
+        std::fs::write(&scene, &text).unwrap();
+        let (direct, rerun) = (
+            tmp(&format!("seconds-d{i}.nc")),
+            tmp(&format!("seconds-s{i}.nc")),
+        );
+        let o = cellsurf(&[&args[..], &["--out", direct.to_str().unwrap(), "--quiet"]].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = cellsurf(&[
+            "ripple",
+            "--scenario",
+            scene.to_str().unwrap(),
+            "--out",
+            rerun.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (d, s) = (
+            std::fs::read(&direct).unwrap(),
+            std::fs::read(&rerun).unwrap(),
+        );
+        // a NetCDF attribute's name, after its length (not the tail of `step_duration_s`)
+        let holds = |b: &[u8], name: &[u8]| {
+            let key = [&(name.len() as u32).to_be_bytes()[..], name].concat();
+            b.windows(key.len()).any(|w| w == key)
+        };
+        assert_eq!(holds(&d, b"duration_s"), duration, "{extra:?}");
+        assert_eq!(holds(&d, b"wave_period_s"), period, "{extra:?}");
+        assert!(
+            d == s,
+            "{extra:?}: the rerun's file differs from the direct run's"
+        );
+    }
+}
+
+/// A scenario's keys in seconds: `duration_s` and `wave_period_s` are converted to steps as
+/// `--duration` and `--wave-period` are, and a file that also gives `steps` or `wave_period`
+/// (the same quantity in steps) is refused naming both keys; --steps typed over a file's
+/// `duration_s` wins, as any option typed over a scenario.
+#[test]
+fn scenario_keys_in_seconds_and_their_steps_are_not_both_given() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let good = format!("{dir}/tests/fixtures/ripple_seconds.toml");
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let o = cellsurf(
+            &[
+                &["ripple", "--scenario", &good, "--json", "--quiet"][..],
+                extra,
+            ]
+            .concat(),
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let v = json(&[]);
+    let step = v["step_duration_s"].as_f64().unwrap();
+    assert_eq!(v["duration_s"], 20.0);
+    assert_eq!(v["wave_period_s"], 8.0);
+    assert_eq!(v["steps"].as_u64(), Some((20.0 / step).round() as u64));
+    assert!((v["wave_period_steps"].as_f64().unwrap() - 8.0 / step).abs() < 1e-9);
+    let v = json(&["--steps", "50"]);
+    assert_eq!(v["steps"], 50);
+    assert_eq!(v["duration_s"], serde_json::Value::Null);
+    for (file, keys) in [
+        (
+            "ripple_bad_steps_and_duration.toml",
+            ["steps = 100", "duration_s = 20"],
+        ),
+        (
+            "ripple_bad_wave_period_twice.toml",
+            ["wave_period = 1000.0", "wave_period_s = 8"],
+        ),
+    ] {
+        let o = cellsurf(&[
+            "ripple",
+            "--scenario",
+            &format!("{dir}/tests/fixtures/{file}"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{file}: {err}");
+        assert!(
+            keys.iter().all(|k| err.contains(k)) && err.contains(file),
+            "{err}"
+        );
+        assert!(err.contains("keep one"), "{err}");
+    }
+}

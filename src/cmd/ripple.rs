@@ -37,7 +37,8 @@ use cellsurf::ripple::{
 )]
 pub struct Args {
     /// Start from this scenario file (TOML, `model = "ripple"` and the same keys as the
-    /// options, e.g. `current_angle = 30`); options typed here override it.
+    /// options, e.g. `current_angle = 30`; `steps` or `duration_s`, the wave period as
+    /// `wave_period` in steps or `wave_period_s`); options typed here override it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
     /// 2d (one section along the current) or 3d [default: 3d].
@@ -197,7 +198,88 @@ pub struct Args {
     print_scenario: bool,
 }
 
-fn params(a: &Args) -> Result<RippleParams> {
+/// What a run was asked for in seconds, from the command line (`--duration`, `--wave-period`)
+/// or a scenario file (`duration_s`, `wave_period_s`), each with the name to give in a
+/// message (`--duration`, or `duration_s (in --scenario FILE)`).
+#[derive(Clone, Default)]
+struct Seconds {
+    duration: Option<(f64, String)>,
+    wave_period: Option<(f64, String)>,
+}
+
+impl Seconds {
+    fn duration(&self) -> Option<f64> {
+        self.duration.as_ref().map(|d| d.0)
+    }
+    fn wave_period(&self) -> Option<f64> {
+        self.wave_period.as_ref().map(|t| t.0)
+    }
+    /// The name of the wave period for a message.
+    fn wave_period_flag(&self) -> &str {
+        self.wave_period.as_ref().map_or("--wave-period", |t| &t.1)
+    }
+}
+
+/// Takes a ripple scenario's keys in seconds, `duration_s` and `wave_period_s`, out of its
+/// table `t` (read from `path`): each gives the same quantity as `steps` and `wave_period` in
+/// steps, so a file with both is refused, as `--steps` with `--duration` is.
+fn scenario_seconds(t: &mut toml::Table, path: &std::path::Path) -> Result<Seconds> {
+    let mut s = Seconds::default();
+    for (key, steps_key, what, max) in [
+        (
+            "duration_s",
+            "steps",
+            "the run's length (as --steps and --duration, which cannot be given together)",
+            f64::INFINITY,
+        ),
+        (
+            "wave_period_s",
+            "wave_period",
+            "the wave period",
+            MAX_PERIOD_S,
+        ),
+    ] {
+        let Some(v) = t.remove(key) else { continue };
+        let name = format!("{key} (in --scenario {})", path.display());
+        let secs = match v {
+            toml::Value::Float(x) => x,
+            toml::Value::Integer(i) => i as f64,
+            other => bail!(
+                "in --scenario {}: {key} = {other} is not a number: expected a number of seconds",
+                path.display()
+            ),
+        };
+        if !(secs.is_finite() && secs > 0.0 && secs <= max) {
+            bail!(
+                "in --scenario {}: {key} = {} is out of range: expected a number of seconds above 0{}",
+                path.display(),
+                cellsurf::ripple::params::shown(secs),
+                if max.is_finite() {
+                    format!(" and at most {max}")
+                } else {
+                    String::new()
+                }
+            );
+        }
+        if let Some(n) = t.get(steps_key) {
+            bail!(
+                "in --scenario {}: {steps_key} = {n} and {key} = {} both give {what}: keep one, \
+                 {steps_key} in steps or {key} in seconds",
+                path.display(),
+                cellsurf::ripple::params::shown(secs),
+            );
+        }
+        match key {
+            "duration_s" => s.duration = Some((secs, name)),
+            _ => s.wave_period = Some((secs, name)),
+        }
+    }
+    Ok(s)
+}
+
+/// The run's parameters, and what it was asked for in seconds.
+fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
+    let mut secs = Seconds::default();
     let mut p = match &a.scenario {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -214,6 +296,7 @@ fn params(a: &Args) -> Result<RippleParams> {
                     path.display()
                 ),
             }
+            secs = scenario_seconds(&mut t, path)?;
             let p: RippleParams = toml::Value::Table(t).try_into().map_err(|e| {
                 anyhow::anyhow!(
                     "in --scenario {}: {}",
@@ -225,6 +308,16 @@ fn params(a: &Args) -> Result<RippleParams> {
         }
         None => RippleParams::default(),
     };
+    // the command line's --steps and --duration win over the file's duration_s
+    if a.steps.is_some() {
+        secs.duration = None;
+    }
+    if let Some(d) = a.duration {
+        secs.duration = Some((d, "--duration".into()));
+    }
+    if let Some(t) = a.wave_period {
+        secs.wave_period = Some((t, "--wave-period".into()));
+    }
     if let Some(s) = a.size {
         (p.nx, p.ny) = (s.w, s.h);
     }
@@ -260,11 +353,12 @@ fn params(a: &Args) -> Result<RippleParams> {
     if a.wave_angle.is_some() {
         p.wave_angle = a.wave_angle;
     }
-    if let Some(t) = a.wave_period {
+    if let Some(t) = secs.wave_period() {
         // one limit in seconds, whether the period goes with --wave-velocity or --wave-height
         if !(t.is_finite() && t > 0.0 && t <= MAX_PERIOD_S) {
             bail!(
-                "--wave-period = {} s is out of range: expected a number of seconds in (0, {MAX_PERIOD_S}]",
+                "{} = {} s is out of range: expected a number of seconds in (0, {MAX_PERIOD_S}]",
+                secs.wave_period_flag(),
                 cellsurf::ripple::params::shown(t)
             );
         }
@@ -272,7 +366,7 @@ fn params(a: &Args) -> Result<RippleParams> {
         // clock's flux is averaged over whole cycles whatever it is)
         p.wave_period = 64.0;
     }
-    match (a.wave_height, a.wave_period, a.water_depth) {
+    match (a.wave_height, secs.wave_period(), a.water_depth) {
         (Some(h), Some(t), Some(d)) => {
             p.wave_amplitude = SurfaceWave::new(h, t, d)?.orbital_velocity();
         }
@@ -287,7 +381,7 @@ fn params(a: &Args) -> Result<RippleParams> {
             h.or(d).unwrap_or(f64::NAN),
             [
                 ("--wave-height", h.is_some()),
-                ("--wave-period", a.wave_period.is_some()),
+                ("--wave-period", secs.wave_period.is_some()),
                 ("--water-depth", d.is_some())
             ]
             .iter()
@@ -301,9 +395,12 @@ fn params(a: &Args) -> Result<RippleParams> {
         p.vortex_strength = v;
     }
     // The lee vortex: on by default with waves whose period is given in seconds here (its
-    // reach needs the orbital excursion in metres); a scenario's own `wave_vortex` is kept
-    // otherwise.
-    match (a.wave_period, a.no_wave_vortex) {
+    // reach needs the orbital excursion in metres), or asked for with a scenario's period in
+    // seconds; a scenario's own `wave_vortex` is kept otherwise.
+    let vortex_period = a
+        .wave_period
+        .or(secs.wave_period().filter(|_| a.wave_vortex));
+    match (vortex_period, a.no_wave_vortex) {
         (_, true) => p.wave_vortex = 0.0,
         (Some(t), false) => {
             p.wave_vortex = p.wave_amplitude * t / (2.0 * std::f64::consts::PI);
@@ -336,7 +433,7 @@ fn params(a: &Args) -> Result<RippleParams> {
     // wave options with no waves to act on
     if p.wave_amplitude == 0.0 && a.wave_amplitude.is_none() {
         let idle: Vec<String> = [
-            ("wave_period", a.wave_period.map(|t| format!("{t} s"))),
+            ("wave_period", secs.wave_period().map(|t| format!("{t} s"))),
             ("wave_angle", a.wave_angle.map(|v| v.to_string())),
             (
                 "wave_friction_factor",
@@ -348,8 +445,11 @@ fn params(a: &Args) -> Result<RippleParams> {
         .into_iter()
         .filter_map(|(id, v)| {
             v.map(|v| {
-                let flag =
-                    conv::typed_flag(id).unwrap_or_else(|| format!("--{}", id.replace('_', "-")));
+                let flag = match &secs.wave_period {
+                    Some((_, name)) if id == "wave_period" => name.clone(),
+                    _ => conv::typed_flag(id)
+                        .unwrap_or_else(|| format!("--{}", id.replace('_', "-"))),
+                };
                 // (a switch has no value to show)
                 if v == "on" {
                     flag
@@ -432,18 +532,27 @@ fn params(a: &Args) -> Result<RippleParams> {
         p.ny = 1;
     }
     p.validate()?;
-    Ok(p)
+    Ok((p, secs))
 }
 
-/// Converts the options given in seconds (`--duration`, `--wave-period`) to steps of the
-/// step duration of `clock` (none: no motion, nothing runs).
-fn to_steps(a: &Args, p: &mut RippleParams, clock: Option<&StepClock>) -> Result<()> {
-    match (a.duration, clock) {
-        (Some(d), Some(c)) => {
-            p.steps = c.steps_for(d)?;
+/// Converts what was asked in seconds (`--duration`, `--wave-period`, or a scenario's
+/// `duration_s`, `wave_period_s`) to steps of the step duration of `clock` (none: no motion,
+/// nothing runs).
+fn to_steps(secs: &Seconds, p: &mut RippleParams, clock: Option<&StepClock>) -> Result<()> {
+    match (&secs.duration, clock) {
+        (Some((d, name)), Some(c)) => {
+            let d = *d;
+            p.steps = match c.steps_for(d) {
+                Ok(n) => n,
+                // (named by the scenario's key; --duration is named as typed)
+                Err(e) if name != "--duration" => {
+                    bail!("{}", e.to_string().replacen("duration", name, 1))
+                }
+                Err(e) => return Err(e.into()),
+            };
             if d < 0.5 * c.step_s {
                 conv::note(format_args!(
-                    "note: --duration = {d} s is shorter than one step ({:.4} s): one step is run ({:.4} s)",
+                    "note: {name} = {d} s is shorter than one step ({:.4} s): one step is run ({:.4} s)",
                     c.step_s, c.step_s
                 ));
             }
@@ -452,17 +561,18 @@ fn to_steps(a: &Args, p: &mut RippleParams, clock: Option<&StepClock>) -> Result
         (_, None) => p.steps = 0,
         (None, Some(_)) => {}
     }
-    if let Some(t) = a.wave_period {
+    if let Some((t, name)) = &secs.wave_period {
+        let t = *t;
         p.wave_period = match clock {
             Some(c) if t / c.step_s > 1e12 => bail!(
-                "--wave-period = {} s is out of range: expected at most 1e12 steps of {:.4e} s ({:.4e} s)",
+                "{name} = {} s is out of range: expected at most 1e12 steps of {:.4e} s ({:.4e} s)",
                 cellsurf::ripple::params::shown(t),
                 c.step_s,
                 1e12 * c.step_s
             ),
             Some(c) if t / c.step_s >= 2.0 => t / c.step_s,
             Some(c) => bail!(
-                "--wave-period = {t} s is out of range: expected at least two steps of {:.4} s ({:.4} s)",
+                "{name} = {t} s is out of range: expected at least two steps of {:.4} s ({:.4} s)",
                 c.step_s,
                 2.0 * c.step_s
             ),
@@ -611,7 +721,7 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
-    let p = params(&a)?;
+    let (p, secs) = params(&a)?;
     if a.print_scenario {
         // (the scenario holds the model; these choose what a run writes)
         let run_only = conv::given_flags(&[
@@ -634,27 +744,41 @@ pub fn run(a: Args) -> Result<()> {
         }
         let mut p = p;
         let mut asked = String::new();
-        if a.duration.is_some() || a.wave_period.is_some() {
+        if secs.duration.is_some() || secs.wave_period.is_some() {
             let reg = cellsurf::ripple::regime::regime(&p);
             let clock = clock_of(&p, &reg)?;
-            to_steps(&a, &mut p, clock.as_ref())?;
-            asked = format!(
-                "# asked for:{}{}{}\n",
-                a.duration
-                    .map_or(String::new(), |d| format!(" --duration {d} s")),
-                a.wave_period
-                    .map_or(String::new(), |t| format!(" --wave-period {t} s")),
-                match clock {
-                    Some(c) => format!(" (steps of {:e} s)", c.step_s),
-                    None =>
-                        " (no motion: no step is run, and the wave period has no length in steps)"
-                            .into(),
-                }
-            );
+            to_steps(&secs, &mut p, clock.as_ref())?;
+            let in_steps: Vec<String> = [
+                secs.duration().map(|_| format!("steps = {}", p.steps)),
+                secs.wave_period()
+                    .map(|_| format!("wave_period = {}", p.wave_period)),
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            asked = match clock {
+                Some(c) => format!("# in steps of {:e} s: {}\n", c.step_s, in_steps.join(", ")),
+                None => "# no motion: no step is run, and the wave period has no length in steps\n"
+                    .into(),
+            };
         }
-        let mut text = p.to_toml();
-        if !text.ends_with('\n') {
-            text.push('\n');
+        // what was asked in seconds stays in seconds, in place of its steps (a file cannot give
+        // both, as --steps and --duration cannot be given together)
+        let mut text = String::new();
+        for line in p.to_toml().lines() {
+            let key = line.split(" = ").next().unwrap_or_default();
+            match (key, secs.duration(), secs.wave_period()) {
+                ("steps", Some(d), _) => {
+                    text.push_str(&format!("duration_s = {}\n", toml::Value::Float(d)))
+                }
+                ("wave_period", _, Some(t)) => {
+                    text.push_str(&format!("wave_period_s = {}\n", toml::Value::Float(t)))
+                }
+                _ => {
+                    text.push_str(line);
+                    text.push('\n');
+                }
+            }
         }
         out!(
             "# cellsurf {} scenario: `cellsurf ripple --scenario FILE`\n{asked}model = \"ripple\"\n{text}",
@@ -827,10 +951,10 @@ pub fn run(a: Args) -> Result<()> {
     };
     let mut p = p;
     let asked_steps = p.steps;
-    to_steps(&a, &mut p, clock.as_ref())?;
+    to_steps(&secs, &mut p, clock.as_ref())?;
     if p.wave_amplitude > 0.0
         && p.wave_period == 0.0
-        && (clock.is_some() || a.scenario.is_none() && a.wave_period.is_none())
+        && (clock.is_some() || a.scenario.is_none() && secs.wave_period.is_none())
     {
         bail!(
             "{} = {} m/s needs a wave period: give --wave-period (seconds)",
@@ -839,7 +963,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let steps = p.steps;
-    let wave_period_s = match (a.wave_period, clock.as_ref()) {
+    let wave_period_s = match (secs.wave_period(), clock.as_ref()) {
         (Some(t), _) => t,
         (None, Some(c)) => c.step_s * p.wave_period,
         (None, None) => 0.0,
@@ -867,7 +991,7 @@ pub fn run(a: Args) -> Result<()> {
             p.bin_size, predicted.height, predicted.source, p.avalanche_angle
         ));
     }
-    let surface = match (a.wave_height, a.wave_period, a.water_depth) {
+    let surface = match (a.wave_height, secs.wave_period(), a.water_depth) {
         (Some(h), Some(t), Some(d)) => Some(SurfaceWave::new(h, t, d)?),
         _ => None,
     };
@@ -978,10 +1102,10 @@ pub fn run(a: Args) -> Result<()> {
             toml::Value::Float(r.bare_fraction()),
         ),
     ];
-    if let Some(d) = a.duration {
+    if let Some(d) = secs.duration() {
         extra.push(("duration_s".into(), toml::Value::Float(d)));
     }
-    if let Some(t) = a.wave_period {
+    if let Some(t) = secs.wave_period() {
         extra.push(("wave_period_s".into(), toml::Value::Float(t)));
     }
     if let Some(c) = clock {
@@ -1099,7 +1223,7 @@ pub fn run(a: Args) -> Result<()> {
             "bytes_per_automaton": r.bytes_per_automaton(),
         });
         let record = serde_json::json!({
-            "duration_s": a.duration,
+            "duration_s": secs.duration(),
             "until": p.until,
             "stop_step": r.time(),
             "stop_reason": stop_reason,
