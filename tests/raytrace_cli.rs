@@ -503,19 +503,20 @@ fn options_of_another_profile_are_refused() {
         &["--profile", "linear", "--salinity", "30"],
         &["--salinity applies to the mackenzie profile only"],
     );
-    refused(
-        &[
-            "--profile",
-            "mackenzie",
-            "--temperature-table",
-            temp,
-            "--salinity",
-            "30",
-            "--salinity-table",
-            temp,
-        ],
+    let mackenzie = |salinity: &str, more: &[&str], want: &[&str]| {
+        let args = ["--profile", "mackenzie", "--temperature-table", temp];
+        refused(&[&args[..], &["--salinity", salinity], more].concat(), want);
+    };
+    mackenzie(
+        "30",
+        &["--salinity-table", temp],
         &["--salinity and --salinity-table both given"],
     );
+    // a constant salinity out of Mackenzie's range is named by its flag, not as a table row
+    for (v, shown) in [("50", "50"), ("10", "10"), ("nan", "NaN")] {
+        let want = format!("error: --salinity = {shown} is out of range");
+        mackenzie(v, &[], &[&want, "[25, 40] ppt"]);
+    }
     // the options of the profile given are fine
     let o = cellsurf(&[
         "raytrace",

@@ -303,6 +303,8 @@ impl Mackenzie {
         let s = match s {
             SalinitySource::Table(text) => Table::parse("salinity table", text, s_lim)?,
             SalinitySource::Constant(v) => {
+                // (named as the one salinity it is, not as a table's row)
+                super::check_range("salinity", v, s_lim.0, s_lim.1, s_lim.2)?;
                 let last = t.last_depth().max(1.0);
                 Table::new("salinity", vec![t.depths()[0], last], vec![v, v], s_lim)?
             }
