@@ -651,4 +651,188 @@ fn model_scenario_fixtures_are_refused_by_key_or_run() {
         }
     }
     assert!(seen >= 6, "{seen} fixtures");
+
+/// An old spelling given together with the flag that replaced it (docs/cli.md, "Old
+/// spellings") is refused with a message naming both as typed, whichever comes first: before,
+/// `ripple --nx 30 --size 24x12` ran with nx = 30, and an alias given with its flag was refused
+/// naming only one of them.
+#[test]
+fn an_old_spelling_with_the_flag_that_replaced_it_is_refused_naming_both() {
+    let dir = tmp_in("conventions-old", "");
+    let f = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (csv, gif, npy, bty) = (f("old.csv"), f("old.gif"), f("old.npy"), f("old.bty"));
+    let (csv2, gif2, npy2, bty2) = (f("new.csv"), f("new.gif"), f("new.npy"), f("new.bty"));
+    // (the command, its exit code, what the message must say)
+    let cases: Vec<(Vec<&str>, i32, Vec<&str>)> = vec![
+        (
+            vec![
+                "ripple",
+                "--nx",
+                "30",
+                "--size",
+                "24x12",
+                "--print-scenario",
+            ],
+            2,
+            vec!["--nx and --size both given: --nx is the old spelling of the x part of --size"],
+        ),
+        (
+            vec![
+                "ripple",
+                "--size",
+                "24x12",
+                "--nx",
+                "30",
+                "--print-scenario",
+            ],
+            2,
+            vec!["--nx and --size both given", "give --size only"],
+        ),
+        (
+            vec![
+                "ripple",
+                "--size",
+                "24x12",
+                "--ny",
+                "30",
+                "--print-scenario",
+            ],
+            2,
+            vec!["--ny and --size both given: --ny is the old spelling of the y part of --size"],
+        ),
+        (
+            vec![
+                "tile",
+                "--generate",
+                "--nx",
+                "30",
+                "--size",
+                "24x12",
+                "--dry-run",
+            ],
+            2,
+            vec!["--nx and --size both given"],
+        ),
+        (
+            vec![
+                "tile",
+                "--generate",
+                "--size=24x12",
+                "--ny",
+                "12",
+                "--dry-run",
+            ],
+            2,
+            vec!["--ny and --size both given"],
+        ),
+        (
+            vec!["dunes", "--grid", "50", "--size", "60"],
+            2,
+            vec!["--grid and --size both given: both set --size (--grid is its old spelling)"],
+        ),
+        (
+            vec!["dunes", "-g", "50", "--size", "60"],
+            2,
+            vec!["-g and --size both given: both set --size (-g is its short form)"],
+        ),
+        (
+            vec!["dunes", "--steps", "6", "--iterations", "5"],
+            2,
+            vec![
+                "--steps and --iterations both given: both set --steps (--iterations is its old spelling)",
+            ],
+        ),
+        (
+            vec!["wind-ripples", "--bins", "10", "--size", "20"],
+            2,
+            vec!["--bins and --size both given"],
+        ),
+        (
+            vec!["cursor", "--wind", &gif, "--wind-image", &gif2],
+            2,
+            vec!["--wind and --wind-image both given"],
+        ),
+        (
+            vec![
+                "ripple",
+                "--wave-amplitude",
+                "0.3",
+                "--wave-velocity",
+                "0.2",
+            ],
+            2,
+            vec!["--wave-amplitude and --wave-velocity both given"],
+        ),
+        (
+            vec!["flame", "--steps", "10", "--csv", &csv, "--out", &csv2],
+            1,
+            vec![
+                "--csv",
+                "--out",
+                "both given: --csv is the old spelling of --out FILE.csv",
+            ],
+        ),
+        (
+            vec!["flame", "--steps", "10", "--out", &gif2, "--gif", &gif],
+            1,
+            vec![
+                "--gif",
+                "--out",
+                "both given: --gif is the old spelling of --out FILE.gif",
+            ],
+        ),
+        (
+            vec!["dunes", "--steps", "1", "--gif", &gif, "--out", &gif2],
+            1,
+            vec!["--gif is the old spelling of --out FILE.gif"],
+        ),
+        (
+            vec![
+                "wind-ripples",
+                "--steps",
+                "1",
+                "--npy",
+                &npy,
+                "--out",
+                &npy2,
+            ],
+            1,
+            vec!["--npy is the old spelling of --out FILE.npy"],
+        ),
+        (
+            vec!["raytrace", "--length", "2", "--bty", &bty, "--out", &bty2],
+            1,
+            vec!["--bty is the old spelling of --out FILE.bty"],
+        ),
+    ];
+    for (args, code, want) in &cases {
+        let out = cellsurf(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(*code), "{args:?}: {err}");
+        for w in want {
+            assert!(err.contains(w), "{args:?}: {w}\n{err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    for p in [&csv, &gif, &npy, &bty, &csv2, &gif2, &npy2, &bty2] {
+        assert!(!std::path::Path::new(p).exists(), "{p}");
+    }
+    // each spelling alone still works
+    let out = cellsurf(&["ripple", "--nx", "30", "--ny", "12", "--print-scenario"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("\nnx = 30\n") && text.contains("\nny = 12\n"),
+        "{text}"
+    );
+    let out = cellsurf(&["dunes", "--grid", "12", "--iterations", "2"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

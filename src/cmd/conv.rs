@@ -73,33 +73,10 @@ pub fn typed(id: &str) -> bool {
 pub fn typed_flag(id: &str) -> Option<String> {
     let inv = INVOCATION.get()?;
     let arg = inv.command.get_arguments().find(|a| a.get_id() == id)?;
-    let longs: Vec<&str> = arg
-        .get_long()
+    spellings(arg, &inv.words)
         .into_iter()
-        .chain(arg.get_all_aliases().unwrap_or_default())
-        .collect();
-    let shorts: Vec<char> = arg
-        .get_short()
-        .into_iter()
-        .chain(arg.get_all_short_aliases().unwrap_or_default())
-        .collect();
-    for w in &inv.words {
-        if w == "--" {
-            break;
-        }
-        if let Some(rest) = w.strip_prefix("--") {
-            let name = rest.split('=').next().unwrap_or(rest);
-            if longs.contains(&name) {
-                return Some(format!("--{name}"));
-            }
-        } else if let Some(rest) = w.strip_prefix('-')
-            && let Some(c) = rest.chars().next()
-            && shorts.contains(&c)
-        {
-            return Some(format!("-{c}"));
-        }
-    }
-    arg.get_long().map(|l| format!("--{l}"))
+        .next()
+        .or_else(|| arg.get_long().map(|l| format!("--{l}")))
 }
 
 /// Whether the option `id` holds `value` (as the command line writes it) because a scenario
@@ -211,6 +188,9 @@ pub fn envelope(
 pub fn plain_parse_error(command: &mut clap::Command, e: clap::Error) -> clap::Error {
     use clap::error::{ContextKind, ErrorKind};
     use std::error::Error as _;
+    if e.kind() == ErrorKind::ArgumentConflict {
+        return old_spelling_conflict(command, &e).unwrap_or(e);
+    }
     if e.kind() != ErrorKind::ValueValidation {
         return e;
     }
@@ -240,6 +220,108 @@ pub fn plain_parse_error(command: &mut clap::Command, e: clap::Error) -> clap::E
             .error(ErrorKind::ValueValidation, msg),
         None => command.error(ErrorKind::ValueValidation, msg),
     }
+}
+
+/// An old spelling given with the flag that replaced it, as clap refuses it: the same option
+/// under two of its names (`dunes --grid 50 --size 60`, `-g` with `--size`), or a hidden old
+/// option with the one it is part of (`ripple --nx 30 --size 24x12`, `conflicts_with`). The
+/// message names both flags as typed and says which is the old spelling; `None` for other
+/// conflicts, which clap's own message says well.
+fn old_spelling_conflict(command: &clap::Command, e: &clap::Error) -> Option<clap::Error> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let name = std::env::args().nth(1)?;
+    // (built, so that its arguments can be shown as clap shows them)
+    let mut sc = command.find_subcommand(&name)?.clone();
+    sc.build();
+    let words: Vec<String> = std::env::args().skip(2).collect();
+    let find = |shown: &str| sc.get_arguments().find(|a| a.to_string() == shown);
+    let (ContextValue::String(first), ContextValue::String(other)) = (
+        e.get(ContextKind::InvalidArg)?,
+        e.get(ContextKind::PriorArg)?,
+    ) else {
+        return None;
+    };
+    let (a, b) = (find(first)?, find(other)?);
+    let long = |a: &clap::Arg| format!("--{}", a.get_long().unwrap_or_default());
+    let msg = if a.get_id() == b.get_id() {
+        // one option under two names: an alias (an old spelling) or its short form
+        let spelled = spellings(a, &words);
+        let [x, y, ..] = spelled.as_slice() else {
+            return None;
+        };
+        let what = |s: &str| {
+            if s.len() == 2 {
+                format!("{s} is its short form")
+            } else {
+                format!("{s} is its old spelling")
+            }
+        };
+        let new = long(a);
+        let notes: Vec<String> = [x, y]
+            .into_iter()
+            .filter(|s| **s != new)
+            .map(|s| what(s))
+            .collect();
+        format!(
+            "{x} and {y} both given: both set {new} ({}); give {new} once",
+            notes.join(", ")
+        )
+    } else {
+        // a hidden old option ("Old spelling of the x part of --size") with its successor
+        let old_of = |a: &clap::Arg| {
+            let help = a.get_help()?.to_string();
+            a.is_hide_set()
+                .then(|| help.strip_prefix("Old spelling of ").map(str::to_string))
+                .flatten()
+        };
+        let (old, new, of) = match (old_of(a), old_of(b)) {
+            (Some(of), _) => (a, b, of),
+            (None, Some(of)) => (b, a, of),
+            (None, None) => return None,
+        };
+        let typed = |a: &clap::Arg| spellings(a, &words).first().cloned().unwrap_or(long(a));
+        let (o, n) = (typed(old), typed(new));
+        format!(
+            "{o} and {n} both given: {o} is the old spelling of {}; give {n} only",
+            of.trim_end_matches('.')
+        )
+    };
+    Some(
+        sc.clone()
+            .bin_name(format!("cellsurf {name}"))
+            .error(ErrorKind::ArgumentConflict, msg),
+    )
+}
+
+/// The names of option `a` among the `words` typed before any `--` (`--grid`, `-g`,
+/// `--size`), each once, in the order typed.
+fn spellings(a: &clap::Arg, words: &[String]) -> Vec<String> {
+    let longs: Vec<&str> = a
+        .get_long()
+        .into_iter()
+        .chain(a.get_all_aliases().unwrap_or_default())
+        .collect();
+    let shorts: Vec<char> = a
+        .get_short()
+        .into_iter()
+        .chain(a.get_all_short_aliases().unwrap_or_default())
+        .collect();
+    let mut seen: Vec<String> = Vec::new();
+    for w in words.iter().take_while(|w| *w != "--") {
+        let spelled = if let Some(rest) = w.strip_prefix("--") {
+            let name = rest.split('=').next().unwrap_or(rest);
+            longs.contains(&name).then(|| format!("--{name}"))
+        } else {
+            w.strip_prefix('-')
+                .and_then(|rest| rest.chars().next())
+                .filter(|c| shorts.contains(c))
+                .map(|c| format!("-{c}"))
+        };
+        if let Some(s) = spelled.filter(|s| !seen.contains(s)) {
+            seen.push(s);
+        }
+    }
+    seen
 }
 
 /// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
@@ -707,8 +789,15 @@ impl Outputs {
     pub fn add_legacy(&mut self, f: Format, p: Option<&PathBuf>) -> Result<()> {
         if let Some(p) = p {
             let option = format!("--{}", f.ext());
-            if self.get(f).is_some() {
-                bail!("two .{} outputs given: one per run", f.ext());
+            if let Some(q) = self.get(f) {
+                let out = typed_flag("out").unwrap_or_else(|| "--out".into());
+                bail!(
+                    "{option} {} and {out} {} both given: {option} is the old spelling of \
+                     {out} FILE.{ext}, and a run writes one .{ext} output; give {out} only",
+                    p.display(),
+                    q.display(),
+                    ext = f.ext()
+                );
             }
             if Format::of(p) != Some(f) {
                 bail!(

@@ -52,10 +52,10 @@ pub struct Args {
     #[arg(long, value_name = "NXxNY")]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
     nx: Option<usize>,
     /// Old spelling of the y part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize)]
+    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
     #[arg(long, value_parser = conv::parse_usize)]
