@@ -651,6 +651,7 @@ fn model_scenario_fixtures_are_refused_by_key_or_run() {
         }
     }
     assert!(seen >= 6, "{seen} fixtures");
+}
 
 /// An old spelling given together with the flag that replaced it (docs/cli.md, "Old
 /// spellings") is refused with a message naming both as typed, whichever comes first: before,

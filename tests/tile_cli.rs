@@ -608,3 +608,42 @@ fn a_scenarios_generating_keys_without_generate_are_warned_of() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && !err.contains("warning"), "{err}");
 }
+
+/// A ripple scenario that `cellsurf ripple --print-scenario` wrote after `--duration` and
+/// `--wave-period` (`duration_s` and `wave_period_s` in place of `steps` and `wave_period`)
+/// generates the runs that `cellsurf ripple --scenario` makes of it, with the same steps and
+/// wave period in steps (it was refused as unknown keys); a typed --steps wins over its
+/// `duration_s`.
+#[test]
+fn a_ripple_scenario_in_seconds_generates_the_ripple_runs_of_it() {
+    let scenario = tmp("seconds.toml");
+    let ripple = "ripple --size 24x12 --layers 10 --d50 0.3 --current-speed 0.3 \
+                  --wave-velocity 0.2 --wave-period 8s --duration 20s --print-scenario";
+    let o = cellsurf(&ripple.split_whitespace().collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::write(&scenario, &o.stdout).unwrap();
+    let s = scenario.to_str().unwrap();
+    let run = json(&cellsurf(&["ripple", "--scenario", s, "--json", "--quiet"]));
+    let tile = |extra: &[&str]| {
+        let a = [
+            "tile",
+            "--generate",
+            "--ripple-scenario",
+            s,
+            "--mosaic",
+            "1x1",
+            "--dry-run",
+            "--json",
+            "--quiet",
+        ];
+        json(&cellsurf(&[&a[..], extra].concat()))["recorded"].clone()
+    };
+    let r = tile(&[]);
+    assert_eq!(r["ripple_steps"], run["steps"], "{r}");
+    assert_eq!(
+        r["ripple_wave_period"], run["parameters"]["wave_period"],
+        "{r}"
+    );
+    assert!(run["steps"].as_u64().unwrap() > 1000, "{run}");
+    assert_eq!(tile(&["--steps", "50"])["ripple_steps"], 50);
+}

@@ -202,9 +202,9 @@ pub struct Args {
 /// or a scenario file (`duration_s`, `wave_period_s`), each with the name to give in a
 /// message (`--duration`, or `duration_s (in --scenario FILE)`).
 #[derive(Clone, Default)]
-struct Seconds {
-    duration: Option<(f64, String)>,
-    wave_period: Option<(f64, String)>,
+pub struct Seconds {
+    pub duration: Option<(f64, String)>,
+    pub wave_period: Option<(f64, String)>,
 }
 
 impl Seconds {
@@ -221,9 +221,14 @@ impl Seconds {
 }
 
 /// Takes a ripple scenario's keys in seconds, `duration_s` and `wave_period_s`, out of its
-/// table `t` (read from `path`): each gives the same quantity as `steps` and `wave_period` in
-/// steps, so a file with both is refused, as `--steps` with `--duration` is.
-fn scenario_seconds(t: &mut toml::Table, path: &std::path::Path) -> Result<Seconds> {
+/// table `t` (read from `path`, given by `flag`: `--scenario`, or `tile --ripple-scenario`):
+/// each gives the same quantity as `steps` and `wave_period` in steps, so a file with both is
+/// refused, as `--steps` with `--duration` is.
+pub fn scenario_seconds(
+    t: &mut toml::Table,
+    flag: &str,
+    path: &std::path::Path,
+) -> Result<Seconds> {
     let mut s = Seconds::default();
     for (key, steps_key, what, max) in [
         (
@@ -240,18 +245,18 @@ fn scenario_seconds(t: &mut toml::Table, path: &std::path::Path) -> Result<Secon
         ),
     ] {
         let Some(v) = t.remove(key) else { continue };
-        let name = format!("{key} (in --scenario {})", path.display());
+        let name = format!("{key} (in {flag} {})", path.display());
         let secs = match v {
             toml::Value::Float(x) => x,
             toml::Value::Integer(i) => i as f64,
             other => bail!(
-                "in --scenario {}: {key} = {other} is not a number: expected a number of seconds",
+                "in {flag} {}: {key} = {other} is not a number: expected a number of seconds",
                 path.display()
             ),
         };
         if !(secs.is_finite() && secs > 0.0 && secs <= max) {
             bail!(
-                "in --scenario {}: {key} = {} is out of range: expected a number of seconds above 0{}",
+                "in {flag} {}: {key} = {} is out of range: expected a number of seconds above 0{}",
                 path.display(),
                 cellsurf::ripple::params::shown(secs),
                 if max.is_finite() {
@@ -263,7 +268,7 @@ fn scenario_seconds(t: &mut toml::Table, path: &std::path::Path) -> Result<Secon
         }
         if let Some(n) = t.get(steps_key) {
             bail!(
-                "in --scenario {}: {steps_key} = {n} and {key} = {} both give {what}: keep one, \
+                "in {flag} {}: {steps_key} = {n} and {key} = {} both give {what}: keep one, \
                  {steps_key} in steps or {key} in seconds",
                 path.display(),
                 cellsurf::ripple::params::shown(secs),
@@ -296,7 +301,7 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
                     path.display()
                 ),
             }
-            secs = scenario_seconds(&mut t, path)?;
+            secs = scenario_seconds(&mut t, "--scenario", path)?;
             let p: RippleParams = toml::Value::Table(t).try_into().map_err(|e| {
                 anyhow::anyhow!(
                     "in --scenario {}: {}",
@@ -582,6 +587,20 @@ fn to_steps(secs: &Seconds, p: &mut RippleParams, clock: Option<&StepClock>) -> 
     }
     p.validate()?;
     Ok(())
+}
+
+/// Sets `p`'s steps and wave period from what a ripple scenario asked in seconds (`tile
+/// --generate --ripple-scenario`), as a ripple run does with the same file.
+pub fn scenario_steps(secs: &Seconds, p: &mut RippleParams) -> Result<()> {
+    if secs.duration.is_none() && secs.wave_period.is_none() {
+        return Ok(());
+    }
+    if secs.wave_period.is_some() {
+        // a provisional period in steps: the clock's flux is averaged over whole cycles
+        p.wave_period = 64.0;
+    }
+    let clock = clock_of(p, &cellsurf::ripple::regime::regime(p))?;
+    to_steps(secs, p, clock.as_ref())
 }
 
 /// The step clock of a run that moves sand: `None` with no motion (the transport law moves

@@ -204,6 +204,7 @@ fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Resul
 }
 
 fn ripple_params(a: &Args) -> Result<RippleParams> {
+    let mut secs = super::ripple::Seconds::default();
     let mut p = match &a.ripple_scenario {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -219,6 +220,8 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
                     path.display()
                 ),
             }
+            // (its duration_s and wave_period_s converted below, as `cellsurf ripple` does)
+            secs = super::ripple::scenario_seconds(&mut t, "--ripple-scenario", path)?;
             toml::Value::Table(t)
                 .try_into()
                 .with_context(|| format!("in --ripple-scenario {}", path.display()))?
@@ -232,6 +235,11 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         ($($f:ident),+) => { $(if let Some(v) = a.$f { p.$f = v; })+ };
     }
     set!(nx, ny, layers, steps, activity, bin_size, current_angle);
+    // --steps typed wins over the scenario's duration_s
+    if a.steps.is_some() {
+        secs.duration = None;
+    }
+    super::ripple::scenario_steps(&secs, &mut p)?;
     if let Some(s) = &a.snapshots {
         p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
     }
