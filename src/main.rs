@@ -24,9 +24,9 @@ mod cmd;
           sediment volumes for underwater acoustics.\n\
         - Wind ripples (wind-ripples), Werner dunes (dunes), the wind-field cursor walk \
           (cursor), the live teaching page (serve).\n\n\
-        Every subcommand shares the conventions of docs/cli.md: --size WxH, --steps (1e7 \
-        accepted), --seed, --out FILE (the extension picks the format; repeatable), --json, \
-        --scenario FILE.toml, --print-scenario, --quiet.\n\n\
+        The model subcommands share the conventions of docs/cli.md: --size WxH, --steps (1e7 \
+        accepted), --seed, --out FILE (the extension picks the format), --json, --scenario \
+        FILE.toml, --print-scenario, --quiet.\n\n\
         Examples:\n  cellsurf flame --out flame.png\n  cellsurf crystal --steps 200000 --json\n  \
         cellsurf grow --lattice square8 --shape disc --start 20 --n 4 --out grow.gif\n  \
         cellsurf ripple --out bed.nc\n  cellsurf figures --only growth_fig5_flame"
