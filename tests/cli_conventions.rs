@@ -474,10 +474,15 @@ fn a_run_larger_than_the_process_may_have_is_refused_by_name() {
 /// `cellsurf ARGS` under `ulimit -v 600000` (600 MB of address space): its exit code and
 /// standard error.
 fn under_600_mb(args: &str) -> (Option<i32>, String) {
+    under_ulimit(600000, args)
+}
+
+/// `cellsurf ARGS` under `ulimit -v KB`: its exit code and standard error.
+fn under_ulimit(kb: u64, args: &str) -> (Option<i32>, String) {
     let bin = env!("CARGO_BIN_EXE_cellsurf");
     let out = std::process::Command::new("bash")
         .arg("-c")
-        .arg(format!("ulimit -v 600000 && exec {bin} {args}"))
+        .arg(format!("ulimit -v {kb} && exec {bin} {args}"))
         .env_remove("RUST_BACKTRACE")
         .output()
         .unwrap();
@@ -527,6 +532,87 @@ fn a_tile_run_larger_than_the_process_may_have_is_refused_by_name() {
     );
     let (code, err) = under_600_mb(
         "tile --generate --size 16x16 --layers 5 --steps 1 --mosaic 4x4 --quiet --dry-run",
+    );
+    assert_eq!(code, Some(0), "{err}");
+}
+
+/// A copy of the NetCDF-3 file `from` whose header declares `n x n` columns (its data cut
+/// short: what is refused from the header is never read).
+fn with_columns(from: &std::path::Path, to: &std::path::Path, n: u32) {
+    let mut b = std::fs::read(from).unwrap();
+    let be = |b: &[u8], at: usize| u32::from_be_bytes(b[at..at + 4].try_into().unwrap()) as usize;
+    assert_eq!(&b[..3], b"CDF");
+    assert_eq!(be(&b, 8), 10, "the header's dimension list");
+    let mut at = 16;
+    for _ in 0..be(&b, 12) {
+        let len = be(&b, at);
+        let name = b[at + 4..at + 4 + len].to_vec();
+        at += 4 + len.div_ceil(4) * 4;
+        if name == b"x" || name == b"y" {
+            b[at..at + 4].copy_from_slice(&n.to_be_bytes());
+        }
+        at += 4;
+    }
+    std::fs::write(to, b).unwrap();
+}
+
+/// `tile --dunes` with a dune grid, and `tile --tile FILE` with a file, larger than the process
+/// may have are refused by name (`--dune-grid`, `--tile FILE`) with status 1 before they are
+/// allocated, with no output left: both aborted on the failed allocation before.
+#[test]
+fn a_dune_grid_or_tile_file_larger_than_the_process_may_have_is_refused_by_name() {
+    let dir = tmp_in("conventions-memory", "");
+    let t = dir.join("t.nc");
+    let small = "ripple --size 32x16 --layers 10 --steps 20 --fields elevation --quiet --out";
+    let o = cellsurf(
+        &[
+            &small.split(' ').collect::<Vec<_>>()[..],
+            &[t.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (t, x) = (t.display(), dir.join("x.npy"));
+    let (code, err) = under_ulimit(
+        400000,
+        &format!(
+            "tile --tile {t} --extent 200x200 --dunes --dune-grid 16384 --out {}",
+            x.display()
+        ),
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("error: --dune-grid 16384 (16384x16384 nodes) needs about")
+            && err.contains("ulimit -v")
+            && !err.contains("memory allocation"),
+        "{err}"
+    );
+    assert!(!x.exists() && !dir.join("x.json").exists());
+    // the default grid fits
+    let (code, err) = under_ulimit(
+        400000,
+        &format!("tile --tile {t} --extent 20x20 --dunes --dry-run --quiet"),
+    );
+    assert_eq!(code, Some(0), "{err}");
+    // a file whose header declares 16384 x 16384 columns: refused from its header
+    let huge = dir.join("huge.nc");
+    with_columns(&dir.join("t.nc"), &huge, 16384);
+    let (code, err) = under_ulimit(
+        400000,
+        &format!("tile --tile {} --mosaic 1x1 --dry-run", huge.display()),
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains(&format!(
+            "error: --tile {} (16384x16384 columns, 2 snapshots) needs about",
+            huge.display()
+        )) && err.contains("ulimit -v")
+            && !err.contains("memory allocation"),
+        "{err}"
+    );
+    let (code, err) = under_ulimit(
+        400000,
+        &format!("tile --tile {t} --mosaic 1x1 --dry-run --quiet"),
     );
     assert_eq!(code, Some(0), "{err}");
 }

@@ -405,9 +405,76 @@ fn check_generate_memory(a: &Args, p: &RippleParams, seeds: usize, steps: &[u64]
     )
 }
 
+/// Address space a second malloc arena reserves (64 MiB), which `ulimit -v` counts once a
+/// thread other than the main one allocates: the estimates below add it, as measured with and
+/// without `MALLOC_ARENA_MAX=1`.
+const ARENA_BYTES: f64 = 64.0 * 1024.0 * 1024.0;
+
+/// Refuses a `--tile` file whose tiles would need more memory than this process may have,
+/// from its header before any of its data is read: what the reading holds at its peak
+/// ([`cellsurf::ripple::input::FileSize::read_bytes`]), 4 bytes per column for each snapshot
+/// taken as a tile and, with --volume, 8 per column and level (the field's copy and the
+/// tile's); 10 % added, and [`ARENA_BYTES`]. Measured as the least `ulimit -v` of `tile --tile
+/// F --mosaic 1x1 --dry-run`, less the program's own 22 MB: a 1024x1024 elevation-only file
+/// of 5 snapshots 41.9 MB (8.0 B per column and snapshot); a 1024x512 file of 2 snapshots and
+/// 2 fields of 44 levels 189.5 MB with MALLOC_ARENA_MAX=1 (4.0 B per value read, 193 MB
+/// computed) and 257.4 MB without; with --volume grain_size 440.9 MB (377.5 MB computed).
+fn check_tile_file_memory(a: &Args, path: &std::path::Path) -> Result<()> {
+    let Some(s) = cellsurf::ripple::input::file_size(path) else {
+        return Ok(());
+    };
+    let columns = s.nx as f64 * s.ny as f64;
+    let picks = a.snapshots.as_ref().map_or(1, |t| t.len()) as f64;
+    let volume = match a.volume {
+        Some(f) if f != Field::Elevation => s.levels as f64,
+        _ => 0.0,
+    };
+    conv::check_memory(
+        &format!(
+            "{} {} ({}x{} columns, {} snapshot{}{})",
+            conv::typed_flag("tile").unwrap_or_else(|| "--tile".into()),
+            path.display(),
+            s.nx,
+            s.ny,
+            s.snapshots,
+            if s.snapshots == 1 { "" } else { "s" },
+            if s.fields > 0 {
+                format!(", {} volume fields of {} levels", s.fields, s.levels)
+            } else {
+                String::new()
+            }
+        ),
+        1.1 * (s.read_bytes() + 4.0 * columns * (picks + 2.0 * volume)) + ARENA_BYTES,
+    )
+}
+
+/// Refuses a dune grid (`--dune-grid`, of a surface of `w x h` bins) larger than the memory
+/// this process may have: 44 bytes per node, 10 % above the 40 measured (the heights and
+/// their two slopes, 24, with the synthesis's complex spectrum, 16, and later the measured
+/// slope's complex copy), and [`ARENA_BYTES`]; `given`: whether the grid was asked for (not
+/// the default). Measured as the least `ulimit -v` of `tile --tile F --extent 200x200 --dunes
+/// --dune-grid N --dry-run`: 532 MB at N = 3072 and 821 MB at N = 4096 (40.2 B per node),
+/// 336 MB at 2048 and 262 MB at 1536 on the same line. A grid out of its range is left to the
+/// dunes' own check, which names it.
+fn check_dune_memory(grid: usize, given: bool, w: usize, h: usize) -> Result<()> {
+    if grid < 3 || grid > w.max(h).min(cellsurf::tile::dunes::MAX_DUNE_GRID) {
+        return Ok(());
+    }
+    let (gx, gy) = (grid.min(w).max(2), grid.min(h).max(2));
+    conv::check_memory(
+        &format!(
+            "{} {grid}{} ({gx}x{gy} nodes)",
+            conv::typed_flag("dune_grid").unwrap_or_else(|| "--dune-grid".into()),
+            if given { "" } else { " (the default)" }
+        ),
+        44.0 * gx as f64 * gy as f64 + ARENA_BYTES,
+    )
+}
+
 fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
     let mut tiles = Vec::new();
     for f in &a.tile {
+        check_tile_file_memory(a, f)?;
         tiles.extend(
             tiles_from_file(f, a.snapshots.as_deref(), a.volume)
                 .with_context(|| format!("--tile {}", f.display()))?,
@@ -804,6 +871,9 @@ pub fn run(a: Args) -> Result<()> {
     };
     let (mw, mh) = mosaic.size();
     let dune_grid = a.dune_grid.unwrap_or_else(|| 256.min(mw.max(mh)));
+    if a.dunes {
+        check_dune_memory(dune_grid, a.dune_grid.is_some(), mw, mh)?;
+    }
     let mut dune_params = DuneParams {
         relief,
         rms: a.dune_rms.unwrap_or(0.0),

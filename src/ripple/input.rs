@@ -110,6 +110,53 @@ fn not_a_file(path: &Path) -> Option<String> {
     None
 }
 
+/// What [`read`] will hold of a ripple NetCDF file, from its header alone ([`file_size`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FileSize {
+    /// Columns along x.
+    pub nx: usize,
+    /// Columns along y.
+    pub ny: usize,
+    /// Elevation snapshots.
+    pub snapshots: usize,
+    /// Volume fields written.
+    pub fields: usize,
+    /// Automaton levels of the volume fields (0 when none was written).
+    pub levels: usize,
+}
+
+impl FileSize {
+    /// Bytes [`read`] holds at its peak: 4 per value, the elevation snapshots twice (as read,
+    /// then one grid per snapshot) and each volume field once.
+    pub fn read_bytes(&self) -> f64 {
+        let columns = self.nx as f64 * self.ny as f64;
+        4.0 * columns * (2.0 * self.snapshots as f64 + (self.fields * self.levels) as f64)
+    }
+}
+
+/// The sizes in the header of the ripple NetCDF file `path`, read without its data, so that a
+/// caller can check the memory [`read`] will take before it allocates; `None` where the header
+/// cannot be read as a ripple file's ([`read`] then says why).
+pub fn file_size(path: &Path) -> Option<FileSize> {
+    if not_a_file(path).is_some() {
+        return None;
+    }
+    let r = FileReader::open(path).ok()?;
+    let ds = r.data_set();
+    let (nx, ny) = (ds.dim_size("x")?, ds.dim_size("y")?);
+    let columns = nx.checked_mul(ny)?.max(1);
+    Some(FileSize {
+        nx,
+        ny,
+        snapshots: ds.var_len("elevation").unwrap_or(0) / columns,
+        fields: Field::ALL
+            .into_iter()
+            .filter(|&f| f != Field::Elevation && ds.get_var(f.name()).is_some())
+            .count(),
+        levels: ds.dim_size("z").unwrap_or(0),
+    })
+}
+
 /// Reads a ripple NetCDF file. Errors name the file and what is missing or inconsistent.
 pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
     if let Some(reason) = not_a_file(path) {
