@@ -17,7 +17,7 @@ use super::conv::{self, Format, Outputs, Size};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::cursor::stats::{self, NoiseModel};
-use cellsurf::cursor::wind::check_size;
+use cellsurf::cursor::wind::{WindOptions, check_size};
 use cellsurf::cursor::{
     ARTICLE_STEPS, CursorWalk, DEFAULT_K, DEFAULT_SIZE, SeaLevel, Transitions, WindField, WindSpec,
     display, draw_landscape,
@@ -184,122 +184,45 @@ const MAX_STEPS: u64 = 1_000_000_000_000;
 /// Steps between progress updates.
 const CHUNK: u64 = 1 << 20;
 
-/// The generator options given, by flag name.
-fn generator_options(a: &Args) -> Vec<&'static str> {
-    let mut v = Vec::new();
-    let flags: [(&'static str, bool); 8] = [
-        ("--wind-angle", a.wind_angle.is_some()),
-        ("--wind-speed", a.wind_speed.is_some()),
-        ("--wind-spread", a.wind_spread.is_some()),
-        ("--wind-wavelength", a.wind_wavelength.is_some()),
-        ("--wind-spacing", a.wind_spacing.is_some()),
-        ("--wind-radial", a.wind_radial.is_some()),
-        ("--wind-radius", a.wind_radius.is_some()),
-        ("--wind-arms", a.wind_arms.is_some()),
-    ];
-    for (name, given) in flags {
-        if given {
-            v.push(name);
-        }
+/// The generator options given.
+fn wind_options(a: &Args) -> WindOptions {
+    WindOptions {
+        angle: a.wind_angle,
+        speed: a.wind_speed,
+        spread: a.wind_spread,
+        wavelength: a.wind_wavelength,
+        spacing: a.wind_spacing,
+        radial: a.wind_radial,
+        radius: a.wind_radius,
+        arms: a.wind_arms,
     }
-    v
+}
+
+/// The flag of a generator option (`--wind-angle` for `wind_angle`).
+fn flag(name: &str) -> String {
+    format!("--{}", name.replace('_', "-"))
 }
 
 /// The generator from the options: the article's settings ([`WindSpec::article`]) with each
 /// given option applied; an option the generator does not take is an error.
 fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
-    let takes: &[&str] = match g {
-        Generator::Calm => &[],
-        Generator::Uniform => &["--wind-angle", "--wind-speed"],
-        Generator::Bimodal => &[
-            "--wind-angle",
-            "--wind-speed",
-            "--wind-spread",
-            "--wind-wavelength",
-        ],
-        Generator::Converging => &[
-            "--wind-angle",
-            "--wind-speed",
-            "--wind-radial",
-            "--wind-wavelength",
-            "--wind-spacing",
-            "--wind-radius",
-        ],
-        Generator::Rotating => &[
-            "--wind-angle",
-            "--wind-speed",
-            "--wind-wavelength",
-            "--wind-arms",
-        ],
-    };
-    if let Some(bad) = generator_options(a)
-        .into_iter()
-        .find(|f| !takes.contains(f))
-    {
-        bail!(
-            "{bad} does not apply to --wind-field {}: it takes {}",
+    let s = WindSpec::article(g.name()).context("unknown generator")?;
+    let s = s.with_options(&wind_options(a)).map_err(|bad| {
+        let takes: Vec<String> = s.options().iter().map(|t| flag(t)).collect();
+        anyhow::anyhow!(
+            "{} does not apply to --wind-field {}: it takes {}",
+            flag(bad),
             g.name(),
             if takes.is_empty() {
                 "no options".to_string()
             } else {
                 takes.join(", ")
             }
-        );
-    }
-    let mut s = WindSpec::article(g.name()).context("unknown generator")?;
-    match &mut s {
-        WindSpec::Calm => {}
-        WindSpec::Uniform { angle_deg, speed } => {
-            set(angle_deg, a.wind_angle);
-            set(speed, a.wind_speed);
-        }
-        WindSpec::Bimodal {
-            angle_deg,
-            speed,
-            spread_deg,
-            wavelength,
-        } => {
-            set(angle_deg, a.wind_angle);
-            set(speed, a.wind_speed);
-            set(spread_deg, a.wind_spread);
-            set(wavelength, a.wind_wavelength);
-        }
-        WindSpec::Converging {
-            angle_deg,
-            speed,
-            radial,
-            wavelength,
-            spacing,
-            radius,
-        } => {
-            set(angle_deg, a.wind_angle);
-            set(speed, a.wind_speed);
-            set(radial, a.wind_radial);
-            set(wavelength, a.wind_wavelength);
-            set(spacing, a.wind_spacing);
-            set(radius, a.wind_radius);
-        }
-        WindSpec::Rotating {
-            angle_deg,
-            speed,
-            wavelength,
-            arms,
-        } => {
-            set(angle_deg, a.wind_angle);
-            set(speed, a.wind_speed);
-            set(wavelength, a.wind_wavelength);
-            set(arms, a.wind_arms);
-        }
-    }
+        )
+    })?;
     s.validate()
         .with_context(|| format!("in --wind-field {}", g.name()))?;
     Ok(s)
-}
-
-fn set<T>(slot: &mut T, v: Option<T>) {
-    if let Some(v) = v {
-        *slot = v;
-    }
 }
 
 /// Where the wind came from, for the summary.
@@ -372,8 +295,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     let (field, source) = match (&a.wind_image, a.wind_field) {
         (Some(path), _) => {
-            if let Some(f) = generator_options(&a).first() {
-                bail!("{f} applies to --wind-field generators, not to a --wind-image");
+            if let Some(f) = wind_options(&a).given().first() {
+                bail!(
+                    "{} applies to --wind-field generators, not to a --wind-image",
+                    flag(f)
+                );
             }
             let field = WindField::from_png(path, size, a.wind_scale)
                 .with_context(|| format!("in --wind-image {}", path.display()))?;

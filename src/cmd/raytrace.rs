@@ -284,13 +284,7 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         let mut z = ZarrSurface::open(p).context("reading --seafloor")?;
         let (_, ny, bin) = z.shape();
         check_section_memory(a, bin)?;
-        let line = SectionLine::Line {
-            x0: bin / 2.0,
-            y0: (ny / 2) as f64 * bin + bin / 2.0,
-            azimuth_deg: a.azimuth,
-            length: a.length,
-            spacing: bin,
-        };
+        let line = SectionLine::through_middle(ny, bin, a.azimuth, a.length);
         let f = cut_section(&mut z, line, a.water_depth, 0.0).context("reading --seafloor")?;
         return Ok((f, "tile store", Some(z.chunks_read)));
     }
@@ -303,13 +297,7 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         None => (RippleSurface::generated(a.seed)?, "generated"),
     };
     check_section_memory(a, surf.bin)?;
-    let line = SectionLine::Line {
-        x0: surf.bin / 2.0,
-        y0: (surf.ny / 2) as f64 * surf.bin + surf.bin / 2.0,
-        azimuth_deg: a.azimuth,
-        length: a.length,
-        spacing: surf.bin,
-    };
+    let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);
     Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
 }
 

@@ -23,8 +23,8 @@ use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
 use cellsurf::tile::{
-    ANGLE_OF_REPOSE_DEG, Choose, DuneParams, Mosaic, Relief, RippledDunes, RowSource, SeamMeter,
-    SeamStats, StreamFormat, StreamSpec, Tile,
+    ANGLE_OF_REPOSE_DEG, Choose, DuneParams, GenerateOptions, Mosaic, Relief, RippledDunes,
+    RowSource, SeamMeter, SeamStats, StreamFormat, StreamSpec, Tile,
 };
 
 /// Options of `cellsurf tile`.
@@ -152,9 +152,13 @@ pub struct Args {
     /// exit non-zero when it is incomplete (with --part i/N: the parts to re-run, of N).
     #[arg(long, value_name = "STORE.zarr", conflicts_with = "out")]
     check: Option<PathBuf>,
-    /// Seed of the patch choice and the dune synthesis (and of --generate without --seeds).
+    /// Seed of the patch choice and, without --dune-seed, of the dune synthesis (and of
+    /// --generate without --seeds).
     #[arg(long, default_value_t = 1, value_parser = conv::parse_count)]
     seed: u64,
+    /// --dunes: seed of the dune synthesis alone [default: --seed].
+    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
+    dune_seed: Option<u64>,
     /// Print the size and the disk space needed, then stop.
     #[arg(long)]
     dry_run: bool,
@@ -180,6 +184,9 @@ struct Recorded {
     choose: String,
     blend: usize,
     seed: u64,
+    /// The dunes' own seed, where it is not `seed` (`--dune-seed`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dune_seed: Option<u64>,
     volume: String,
     dunes: bool,
     hurst: f64,
@@ -228,13 +235,11 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         }
         None => RippleParams::default(),
     };
-    if let Some(s) = a.size {
-        (p.nx, p.ny) = (s.w, s.h);
-    }
-    macro_rules! set {
-        ($($f:ident),+) => { $(if let Some(v) = a.$f { p.$f = v; })+ };
-    }
-    set!(nx, ny, layers, steps, activity, bin_size, current_angle);
+    // the options that set the runs' parameters, by their names (as in a scenario file)
+    let o: GenerateOptions = toml::Value::Table(conv::scenario_table(a)?)
+        .try_into()
+        .context("the --generate options")?;
+    o.apply(&mut p);
     // --steps typed wins over the scenario's duration_s
     if a.steps.is_some() {
         secs.duration = None;
@@ -558,6 +563,7 @@ pub const MAX_SEED: u64 = 1 << 53;
 /// `--seed` and `--seeds` within `0 ..= MAX_SEED`.
 fn check_seeds(a: &Args) -> Result<()> {
     let seeds = std::iter::once(("--seed", a.seed))
+        .chain(a.dune_seed.map(|s| ("--dune-seed", s)))
         .chain(a.seeds.iter().flatten().map(|&s| ("--seeds", s)));
     for (flag, s) in seeds {
         if s > MAX_SEED {
@@ -712,6 +718,7 @@ pub fn run(a: Args) -> Result<()> {
             "dune_wavelength",
             "steering",
             "dune_grid",
+            "dune_seed",
         ] {
             if conv::typed(id) {
                 let flag = conv::typed_flag(id).unwrap_or_default();
@@ -726,6 +733,7 @@ pub fn run(a: Args) -> Result<()> {
                 "dune_wavelength",
                 "steering",
                 "dune_grid",
+                "dune_seed",
             ],
             "rippled dunes only (dunes = true)",
         )?;
@@ -880,7 +888,7 @@ pub fn run(a: Args) -> Result<()> {
         grid: dune_grid,
         current_angle: current_in_mosaic,
         steering: a.steering,
-        seed: a.seed,
+        seed: a.dune_seed.unwrap_or(a.seed),
     };
     let dunes = if a.dunes {
         if a.dune_rms.is_none() {
@@ -904,6 +912,7 @@ pub fn run(a: Args) -> Result<()> {
         choose: choose.name().into(),
         blend: a.blend,
         seed: a.seed,
+        dune_seed: a.dune_seed.filter(|_| a.dunes),
         volume: a.volume.map(|f| f.name()).unwrap_or("none").into(),
         dunes: a.dunes,
         hurst: a.hurst,

@@ -53,11 +53,13 @@
 //! default here is 240 x 240 ([`DEFAULT_SIZE`]: a mean height of 200, so that the article's
 //! default sea level of 100 is half the mean height).
 //!
-//! Figures (feature `plot`): [`FIGURES`].
+//! Figures (feature `plot`): [`FIGURES`]. [`CursorScenario`]: a `cellsurf cursor` scenario
+//! file read back.
 
 pub mod display;
 #[cfg(feature = "plot")]
 mod figures;
+mod scenario;
 pub mod stats;
 pub mod walk;
 pub mod wind;
@@ -67,6 +69,7 @@ use thiserror::Error;
 use crate::engine::lattice::LatticeError;
 
 pub use display::SeaLevel;
+pub use scenario::CursorScenario;
 pub use walk::{CursorWalk, DIRECTIONS, Transitions, UNIT, probabilities};
 pub use wind::{Wind, WindField, WindSpec};
 

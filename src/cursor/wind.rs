@@ -578,6 +578,55 @@ pub enum WindSpec {
 /// Names of the generators, for the command line.
 pub const GENERATORS: &[&str] = &["calm", "uniform", "bimodal", "converging", "rotating"];
 
+/// The settings of a generator that replace its article settings ([`WindSpec::with_options`]),
+/// each named as its command-line option without the dashes (`wind_angle` for `--wind-angle`,
+/// as in a scenario file); `None` where not given.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WindOptions {
+    /// `wind_angle`: direction, degrees.
+    pub angle: Option<f64>,
+    /// `wind_speed`: speed, article units.
+    pub speed: Option<f64>,
+    /// `wind_spread`: angle between the bimodal winds, degrees.
+    pub spread: Option<f64>,
+    /// `wind_wavelength`: distance between ridges, centres or nodes, cells.
+    pub wavelength: Option<f64>,
+    /// `wind_spacing`: distance between converging centres along y, cells.
+    pub spacing: Option<f64>,
+    /// `wind_radial`: largest radial wind around a converging centre, article units.
+    pub radial: Option<f64>,
+    /// `wind_radius`: radius of that radial wind, cells.
+    pub radius: Option<f64>,
+    /// `wind_arms`: arms of each star.
+    pub arms: Option<u32>,
+}
+
+impl WindOptions {
+    /// The names of the settings given, in the order above.
+    pub fn given(&self) -> Vec<&'static str> {
+        [
+            ("wind_angle", self.angle.is_some()),
+            ("wind_speed", self.speed.is_some()),
+            ("wind_spread", self.spread.is_some()),
+            ("wind_wavelength", self.wavelength.is_some()),
+            ("wind_spacing", self.spacing.is_some()),
+            ("wind_radial", self.radial.is_some()),
+            ("wind_radius", self.radius.is_some()),
+            ("wind_arms", self.arms.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(name, given)| given.then_some(name))
+        .collect()
+    }
+}
+
+/// Sets `slot` to `v` where given.
+fn set<T>(slot: &mut T, v: Option<T>) {
+    if let Some(v) = v {
+        *slot = v;
+    }
+}
+
 impl WindSpec {
     /// The generator's name.
     pub fn name(&self) -> &'static str {
@@ -588,6 +637,83 @@ impl WindSpec {
             WindSpec::Converging { .. } => "converging",
             WindSpec::Rotating { .. } => "rotating",
         }
+    }
+
+    /// The settings of [`WindOptions`] this generator takes, by name (`wind_angle`, ...).
+    pub fn options(&self) -> &'static [&'static str] {
+        match self {
+            WindSpec::Calm => &[],
+            WindSpec::Uniform { .. } => &["wind_angle", "wind_speed"],
+            WindSpec::Bimodal { .. } => {
+                &["wind_angle", "wind_speed", "wind_spread", "wind_wavelength"]
+            }
+            WindSpec::Converging { .. } => &[
+                "wind_angle",
+                "wind_speed",
+                "wind_radial",
+                "wind_wavelength",
+                "wind_spacing",
+                "wind_radius",
+            ],
+            WindSpec::Rotating { .. } => {
+                &["wind_angle", "wind_speed", "wind_wavelength", "wind_arms"]
+            }
+        }
+    }
+
+    /// This generator with the settings given in `o` in place of its own (unchecked: see
+    /// [`WindSpec::validate`]); `Err` with the name of the first setting given that this
+    /// generator does not take ([`WindSpec::options`]).
+    pub fn with_options(mut self, o: &WindOptions) -> Result<WindSpec, &'static str> {
+        let takes = self.options();
+        if let Some(bad) = o.given().into_iter().find(|n| !takes.contains(n)) {
+            return Err(bad);
+        }
+        let (WindSpec::Uniform { angle_deg, speed }
+        | WindSpec::Bimodal {
+            angle_deg, speed, ..
+        }
+        | WindSpec::Converging {
+            angle_deg, speed, ..
+        }
+        | WindSpec::Rotating {
+            angle_deg, speed, ..
+        }) = &mut self
+        else {
+            return Ok(self);
+        };
+        set(angle_deg, o.angle);
+        set(speed, o.speed);
+        match &mut self {
+            WindSpec::Bimodal {
+                spread_deg,
+                wavelength,
+                ..
+            } => {
+                set(spread_deg, o.spread);
+                set(wavelength, o.wavelength);
+            }
+            WindSpec::Converging {
+                radial,
+                wavelength,
+                spacing,
+                radius,
+                ..
+            } => {
+                set(radial, o.radial);
+                set(wavelength, o.wavelength);
+                set(spacing, o.spacing);
+                set(radius, o.radius);
+            }
+            WindSpec::Rotating {
+                wavelength, arms, ..
+            } => {
+                set(wavelength, o.wavelength);
+                set(arms, o.arms);
+            }
+            WindSpec::Calm | WindSpec::Uniform { .. } => {}
+        }
+        Ok(self)
     }
 
     /// The generator `name` (one of [`GENERATORS`]) with the parameters of the article's figure

@@ -125,6 +125,7 @@ mod grid;
 mod measure;
 #[cfg(feature = "plot")]
 mod plot;
+mod scenario;
 pub mod study;
 mod werner;
 
@@ -136,6 +137,7 @@ pub use plot::{
     draw_field, draw_result, gaussian_pile, height_color, height_palette, height_panel,
     height_states,
 };
+pub use scenario::DuneScenario;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

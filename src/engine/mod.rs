@@ -19,6 +19,8 @@
 //! - [`wrap`]: periodic indices and a floor without a library call, for hot loops.
 //! - [`io`]: [`write_atomic`](io::write_atomic) and the output checks: no reader ever sees a
 //!   partial file.
+//! - [`scenario`]: [`read`](scenario::read), a subcommand's scenario file (`model = "..."` and
+//!   its options) as the library reads it back.
 //! - `zarr` (feature `zarr`): Zarr v3 stores written chunk by chunk by independent processes
 //!   (atomic chunks, metadata written by whichever writer comes first, checked by the others).
 //!
@@ -45,6 +47,7 @@ pub mod io;
 pub mod lattice;
 pub mod part;
 pub mod rng;
+pub mod scenario;
 pub mod stats;
 pub mod study;
 pub mod sumtree;

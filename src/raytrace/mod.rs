@@ -22,6 +22,8 @@
 //!   (line-of-sight) counterparts.
 //! - [`rough`]: periodic Gaussian random surfaces and Smith's (1967) shadowing function.
 //! - [`export`]: BELLHOP bathymetry (`.bty`) and CSV files, written atomically.
+//! - [`RaytraceScenario`] ([`scenario`]): a `cellsurf raytrace` scenario file read back (the
+//!   published figure's runs).
 //! - `figures` (feature `plot`): `ripple_fig5_raytrace` and `raytrace_error_vs_time`, listed in
 //!   [`FIGURES`].
 //!
@@ -52,11 +54,13 @@ pub mod input;
 pub mod profile;
 pub mod ray;
 pub mod rough;
+pub mod scenario;
 pub mod seafloor;
 pub mod shadow;
 
 pub use profile::{Mackenzie, Munk, SoundSpeed, Table};
 pub use ray::{Ray, RayEnd, Reflection, StepError, Surface, TraceOptions, Tracer, error_study};
+pub use scenario::RaytraceScenario;
 pub use seafloor::{RippleSurface, Seafloor, SectionLine};
 pub use shadow::{
     Arrival, Fan, Insonification, InsonifyOptions, Span, insonify, reflection_coefficient,

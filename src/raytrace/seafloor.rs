@@ -402,6 +402,21 @@ pub enum SectionLine {
     },
 }
 
+impl SectionLine {
+    /// The section `cellsurf raytrace` cuts through a surface of `ny` rows of `bin`-metre bins:
+    /// from the centre of column 0 in the middle row (`ny / 2`), along `azimuth_deg`, `length`
+    /// metres, one sample a bin.
+    pub fn through_middle(ny: usize, bin: f64, azimuth_deg: f64, length: f64) -> SectionLine {
+        SectionLine::Line {
+            x0: bin / 2.0,
+            y0: (ny / 2) as f64 * bin + bin / 2.0,
+            azimuth_deg,
+            length,
+            spacing: bin,
+        }
+    }
+}
+
 /// A periodic elevation grid (`nx x ny`, y-major rows of x, bin-centre values, m) with an
 /// optional per-column impedance.
 #[derive(Clone, Copy, Debug)]

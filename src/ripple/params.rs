@@ -365,11 +365,26 @@ fn check_f(
 }
 
 impl RippleParams {
-    /// Reads a TOML scene: the same keys as the fields, unknown keys rejected, missing keys
-    /// default. The result is validated.
+    /// Reads a TOML scene, a `cellsurf ripple` scenario file: the same keys as the fields,
+    /// unknown keys rejected, missing keys default, and `model = "ripple"` (which
+    /// `--print-scenario` writes; optional here, another model refused). The result is
+    /// validated.
     pub fn from_toml(text: &str) -> Result<Self, RippleError> {
-        let p: RippleParams = toml::from_str(text)
-            .map_err(|e| RippleError::Toml(renamed_key_hint(&e.to_string())))?;
+        let mut t: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| RippleError::Toml(e.to_string()))?;
+        match t.remove("model") {
+            None => {}
+            Some(toml::Value::String(m)) if m == "ripple" => {}
+            Some(m) => {
+                return Err(RippleError::Toml(format!(
+                    "model = {m} is not \"ripple\": a scenario of another subcommand"
+                )));
+            }
+        }
+        let p: RippleParams = toml::Value::Table(t)
+            .try_into()
+            .map_err(|e: toml::de::Error| RippleError::Toml(renamed_key_hint(&e.to_string())))?;
         p.validate()?;
         Ok(p)
     }

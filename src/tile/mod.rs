@@ -26,6 +26,8 @@
 //! - [`ZarrLayout`](zarr::ZarrLayout), [`Part`](zarr::Part) and the Zarr writer and checker
 //!   (`zarr`, feature `zarr`): a surface as a chunked Zarr v3 store written by one process or
 //!   by `N` independent parts, chunks of whole tiles.
+//! - [`TileScenario`] ([`scenario`]): a `cellsurf tile` scenario file read back (the published
+//!   figures' runs).
 //! - `figures` (feature `plot`): `ripple_fig6_tiles` and `ripple_fig9_fractal_dunes`, listed in
 //!   [`FIGURES`].
 //!
@@ -52,6 +54,7 @@ pub mod dunes;
 pub mod figures;
 pub mod fractal;
 pub mod mosaic;
+pub mod scenario;
 pub mod seam;
 pub mod stream;
 pub mod tileset;
@@ -61,6 +64,7 @@ pub mod zarr;
 pub use dunes::{DuneParams, RippledDunes};
 pub use fractal::{DuneField, FbmParams, Relief};
 pub use mosaic::{Choose, Mosaic};
+pub use scenario::{GenerateOptions, TileScenario};
 pub use seam::{ANGLE_OF_REPOSE_DEG, SeamMeter, SeamStats, SlopeStats};
 pub use stream::{RowSource, StreamFormat, StreamReport, StreamSpec};
 pub use tileset::Tile;

@@ -7,6 +7,8 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::engine::scenario::{self, GridSize, ScenarioError};
+
 /// Largest number of bins per side (`bins^2` = 16,777,216 cells, 64 MiB of counts).
 pub const MAX_BINS: usize = 4096;
 /// Largest number of particles (24 bytes each, 48 while they are sorted: 48 GiB at this
@@ -129,7 +131,45 @@ impl Default for WindParams {
     }
 }
 
+/// The keys of a `cellsurf wind-ripples` scenario file (`model = "wind-ripples"`): the
+/// options of the subcommand, `size` for [`WindParams::bins`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Scenario {
+    steps: Option<u64>,
+    particles: Option<usize>,
+    size: Option<GridSize>,
+    kappa: Option<f64>,
+    hop: Option<f64>,
+    diffusion: Option<f64>,
+    schedule: Option<Schedule>,
+    seed: Option<u64>,
+}
+
 impl WindParams {
+    /// Reads a `cellsurf wind-ripples` scenario file (as `--print-scenario` writes it): the
+    /// keys given replace the defaults ([`WindParams::default`], the subcommand's too); the
+    /// result is validated.
+    pub fn from_scenario(text: &str) -> Result<WindParams, ScenarioError> {
+        let s: Scenario = scenario::read(text, "wind-ripples")?;
+        let d = WindParams::default();
+        let p = WindParams {
+            bins: match s.size {
+                Some(g) => g.side("size")?,
+                None => d.bins,
+            },
+            particles: s.particles.unwrap_or(d.particles),
+            steps: s.steps.unwrap_or(d.steps),
+            hop: s.hop.unwrap_or(d.hop),
+            kappa: s.kappa.unwrap_or(d.kappa),
+            diffusion: s.diffusion.unwrap_or(d.diffusion),
+            schedule: s.schedule.unwrap_or(d.schedule),
+            seed: s.seed.unwrap_or(d.seed),
+        };
+        p.validate().map_err(ScenarioError::new)?;
+        Ok(p)
+    }
+
     /// The parameters as `key = value` lines (TOML), with the model's name and the cellsurf
     /// version: recorded in the PNG files and the `.npy` sidecar.
     pub fn describe_toml(&self) -> String {

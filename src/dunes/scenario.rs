@@ -1,0 +1,113 @@
+//! [`DuneScenario`]: a `cellsurf dunes` scenario file read back by the library (the published
+//! figures' runs): the subcommand's options as keys, its defaults for the others.
+
+use serde::Deserialize;
+
+use super::{BODY_THRESHOLD, DuneConfig, Mode, WernerParams};
+use crate::engine::scenario::{self, GridSize, ScenarioError};
+
+/// The keys of a `cellsurf dunes` scenario file (`model = "dunes"`), as the subcommand's
+/// `--print-scenario` writes them.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Keys {
+    size: Option<GridSize>,
+    steps: Option<u64>,
+    dune: Option<bool>,
+    quantity: Option<f64>,
+    wind: Option<f64>,
+    seed: Option<u64>,
+    variant: Option<String>,
+    hop: Option<u32>,
+    threshold: Option<f64>,
+}
+
+/// A `cellsurf dunes` run: its configuration and the dune-body threshold of its pictures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DuneScenario {
+    /// The model's parameters.
+    pub config: DuneConfig,
+    /// Dune-body threshold, height units (the subcommand's `--threshold`, default
+    /// [`BODY_THRESHOLD`]).
+    pub threshold: f64,
+}
+
+impl DuneScenario {
+    /// Reads a scenario file as `cellsurf dunes --scenario` does: `size` (a square grid),
+    /// `steps` (iterations), `dune` and `variant` (`article` or `werner`: the mode), `quantity`,
+    /// `wind`, `seed`, `hop` (Werner's) and `threshold`; a key not given keeps the subcommand's
+    /// default. The result is validated.
+    pub fn parse(text: &str) -> Result<DuneScenario, ScenarioError> {
+        let k: Keys = scenario::read(text, "dunes")?;
+        let d = DuneConfig::default();
+        let mode = match (k.variant.as_deref(), k.dune.unwrap_or(false)) {
+            (Some("werner"), _) => Mode::Werner,
+            (None | Some("article"), true) => Mode::Dune,
+            (None | Some("article"), false) => Mode::Ripple,
+            (Some(v), _) => {
+                return Err(ScenarioError::new(format!(
+                    "variant = \"{v}\" is out of range: expected \"article\" or \"werner\""
+                )));
+            }
+        };
+        let hop = k.hop.unwrap_or(d.werner.hop);
+        if !(1..=1_000_000).contains(&hop) {
+            return Err(ScenarioError::new(format!(
+                "hop = {hop} is out of range: expected 1 to 10^6 cells"
+            )));
+        }
+        let config = DuneConfig {
+            mode,
+            grid: match k.size {
+                Some(g) => g.side("size")?,
+                None => d.grid,
+            },
+            iterations: k.steps.unwrap_or(d.iterations),
+            quantity: k.quantity.unwrap_or(d.quantity),
+            wind: k.wind.unwrap_or(d.wind),
+            seed: k.seed.unwrap_or(d.seed),
+            werner: WernerParams {
+                hop,
+                ..WernerParams::default()
+            },
+        };
+        config.validate().map_err(ScenarioError::new)?;
+        let threshold = k.threshold.unwrap_or(BODY_THRESHOLD);
+        if !(threshold.is_finite() && threshold >= 0.0) {
+            return Err(ScenarioError::new(format!(
+                "threshold = {threshold} is out of range: expected a finite height of at least 0 cell widths"
+            )));
+        }
+        Ok(DuneScenario { config, threshold })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_become_the_configuration_and_the_rest_keep_the_defaults() {
+        let s = DuneScenario::parse("model = \"dunes\"\ndune = true\nquantity = 3.0\nsize = 64\n")
+            .unwrap();
+        assert_eq!(s.config.mode, Mode::Dune);
+        assert_eq!(s.config.quantity, 3.0);
+        assert_eq!(s.config.grid, 64);
+        assert_eq!(s.config.iterations, DuneConfig::default().iterations);
+        assert_eq!(s.threshold, BODY_THRESHOLD);
+        let w = DuneScenario::parse("model = \"dunes\"\nvariant = \"werner\"\nhop = 7\n").unwrap();
+        assert_eq!((w.config.mode, w.config.werner.hop), (Mode::Werner, 7));
+        crate::engine::scenario::assert_refused(
+            "dunes",
+            DuneScenario::parse,
+            &[
+                ("variant = \"x\"", "variant"),
+                ("size = \"4x5\"", "square"),
+                ("hop = 0", "hop"),
+                ("threshold = -1.0", "threshold"),
+                ("quantity = -1.0", "quantity"),
+                ("iterations = 5", "iterations"),
+            ],
+        );
+    }
+}
