@@ -1,8 +1,8 @@
 //! Ray-tracer benchmarks (divan). Run: `cargo bench --bench raytrace`.
 //!
 //! - `fan_to_floor`: rays per second of a fan of 1000 rays from S (10 m deep, 1.5 to 25
-//!   degrees) to their first hit on the Fig. 5 floor (the generated ripple field, 60 m of
-//!   section, 12 001 vertices), step 0.25 m, for each of the Fig. 5 profiles' kinds
+//!   degrees) to their first hit on the Fig. 5 floor (the generated ripple field, 94 tiles,
+//!   60.16 m of section, 12 033 vertices), step 0.25 m, for each of the Fig. 5 profiles' kinds
 //!   (isovelocity, linear, table); set-up not timed.
 //! - `insonify_fig5`: one whole insonification of that floor (initial fan of 200 rays, then the
 //!   bisection to the shadow edges), isovelocity.
@@ -34,7 +34,7 @@ fn fan_to_floor(bencher: Bencher, kind: &str) {
     let t = Tracer::new(&p, &f).unwrap();
     let o = TraceOptions {
         max_path: 200.0,
-        ..fig5_options().trace
+        ..fig5_options(&f).unwrap().trace
     };
     bencher.counter(ItemsCount::new(RAYS)).bench_local(|| {
         let mut hits = 0;
@@ -59,6 +59,6 @@ fn insonify_fig5(bencher: Bencher) {
         max_deg: 25.0,
         rays: 200,
     };
-    let o = fig5_options();
+    let o = fig5_options(&f).unwrap();
     bencher.bench_local(|| black_box(insonify(&t, &fan, &o).unwrap().rays));
 }

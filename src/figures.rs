@@ -4,6 +4,10 @@
 //! [`crate::ripple::FIGURES`], ...); [`all`] gathers them for `cellsurf figures`. Nothing in
 //! the library imports this module: it sits above every model.
 //!
+//! A figure made from one run of a subcommand (or one run a panel) takes its parameters from
+//! its scenario file in `scenarios/` ([`scenarios`]); the others, listed in
+//! [`WITHOUT_SCENARIO`], are studies over many runs, but for one.
+//!
 //! The figures of [`MEASURED`] plot measured run times, which differ from run to run. They
 //! are drawn from their committed tables (`figures/data/NAME.csv` and `.toml`, see
 //! [`ChartTable`]) by [`make`], so that regenerating the figures gives the same bytes (in a
@@ -26,6 +30,50 @@ pub fn all() -> impl Iterator<Item = &'static Figure> {
         .chain(crate::raytrace::FIGURES)
         .chain(crate::tile::FIGURES)
 }
+
+/// Every scenario file of `scenarios/` that a figure runs, as `(NAME, text)` for
+/// `scenarios/NAME.toml`: a figure's own (`NAME` its name), or one of its panels' (`NAME` its
+/// name, `_` and the panel). The figures take their parameters from these texts, embedded when
+/// the program was built; `cellsurf SUB --scenario scenarios/NAME.toml` runs each (its first
+/// comment says which figure of which source it reproduces, its `# Run:` line the command).
+pub fn scenarios() -> impl Iterator<Item = &'static (&'static str, &'static str)> {
+    crate::growth::figures::SCENARIOS
+        .iter()
+        .chain(crate::windripples::figures::SCENARIOS)
+        .chain(crate::dunes::SCENARIOS)
+        .chain(crate::cursor::SCENARIOS)
+        .chain(crate::ripple::figures::SCENARIOS)
+        .chain(crate::raytrace::figures::SCENARIOS)
+        .chain(crate::tile::figures::SCENARIOS)
+}
+
+/// The other files of `scenarios/`: the tables a scenario file names (by the path written in
+/// it, from the repository root), with their texts.
+pub fn scenario_tables() -> impl Iterator<Item = &'static (&'static str, &'static str)> {
+    crate::raytrace::figures::TABLES.iter()
+}
+
+/// A study over many runs: its figure has no scenario file.
+const STUDY: &str =
+    "a study over many runs (seeds, sizes or parameters), not one run of a subcommand";
+
+/// The figures without a scenario file, and why: the studies over many runs, and one figure
+/// whose run starts from a state its subcommand cannot make.
+pub const WITHOUT_SCENARIO: &[(&str, &str)] = &[
+    ("growth_error_vs_time", STUDY),
+    ("growth_kpz_roughness", STUDY),
+    ("windripples_error_vs_time", STUDY),
+    (
+        "dunes_barchan",
+        "its run starts from one round pile of sand, a state `cellsurf dunes` does not start from",
+    ),
+    ("dunes_error_vs_time", STUDY),
+    ("cursor_k_effect", STUDY),
+    ("cursor_error_vs_time", STUDY),
+    ("ripple_error_vs_time", STUDY),
+    ("ripple_validation", STUDY),
+    ("raytrace_error_vs_time", STUDY),
+];
 
 /// The figure called `name`.
 pub fn find(name: &str) -> Option<&'static Figure> {

@@ -565,7 +565,8 @@ fn scene_files_reject_unknown_keys_and_take_defaults() {
         std::fs::read_to_string(format!("{dir}/tests/fixtures/ripple_bad_alpha.toml")).unwrap();
     let e = RippleParams::from_toml(&bad).unwrap_err().to_string();
     assert!(e.contains("avalanche_angle"), "{e}");
-    let fig3 = std::fs::read_to_string(format!("{dir}/scenarios/ripple_fig3.toml")).unwrap();
+    let fig3 =
+        std::fs::read_to_string(format!("{dir}/scenarios/ripple_fig3_evolution.toml")).unwrap();
     RippleParams::from_toml(&fig3).unwrap();
 }
 

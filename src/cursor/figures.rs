@@ -1,14 +1,17 @@
 //! The cursor model's figures (feature `plot`): the article's Figs. 2 and 4-8 in kind, the
 //! effect of `k`, and the density error against the number of steps.
 //!
-//! Every landscape is one walk of the article's 11,520,000 steps on the default 240 x 240 grid
-//! from seed 1, drawn next to its wind field (the article's input image, RGB encoding,
-//! lightened, with arrows). The wind fields are the generators' article settings
-//! ([`WindSpec::article`]); crescentic ridges use the converging generator with centres 60 x 40
-//! cells apart. Sea levels: Figs. 2 and 4 flood the lowest 30% of the cells (a Brownian field
-//! never falls to half its mean); Fig. 6 floods the lowest 85% so that the crescents stand
-//! out; the others use a fraction of the mean height, the same for every `k` of a figure, as in
-//! the article ("If one keeps the sea level equal for simulations with different k").
+//! Every landscape is one walk of `cellsurf cursor`, its parameters read from the figure's
+//! scenario file ([`SCENARIOS`]; one file a panel where the panels differ in `k`): the article's
+//! 11,520,000 steps on the default 240 x 240 grid from seed 1, drawn next to its wind field (the
+//! article's input image, RGB encoding, lightened, with arrows). The wind fields are the
+//! generators' article settings ([`WindSpec::article`]); crescentic ridges use the converging
+//! generator with centres 60 x 40 cells apart. Sea levels: Figs. 2 and 4 flood the lowest 30% of
+//! the cells (a Brownian field never falls to half its mean); Fig. 6 floods the lowest 85% so
+//! that the crescents stand out; the others use a fraction of the mean height, the same for
+//! every `k` of a figure, as in the article ("If one keeps the sea level equal for simulations
+//! with different k"). The effect of `k` runs the winds and sea levels of Figs. 7 and 8 at four
+//! `k`.
 
 use std::path::{Path, PathBuf};
 
@@ -22,7 +25,46 @@ use super::display::{SeaLevel, flooded_fraction, terrain_rgb};
 use super::stats::{self, NoiseModel};
 use super::walk::{CursorWalk, Transitions};
 use super::wind::{WindField, WindSpec};
-use super::{ARTICLE_STEPS, CursorError, DEFAULT_K, DEFAULT_SIZE, MAX_WIND};
+use super::{ARTICLE_STEPS, CursorError, CursorScenario, DEFAULT_K, DEFAULT_SIZE, MAX_WIND};
+
+/// The scenario files of the figures made from one run (or one run a panel), by file name.
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "cursor_fig2_brownian",
+    "cursor_fig4_uniform",
+    "cursor_fig5_linear",
+    "cursor_fig6_barchan",
+    "cursor_fig7_crescentic_k0.10",
+    "cursor_fig7_crescentic_k0.50",
+    "cursor_fig8_star_k0.25",
+    "cursor_fig8_star_k0.50",
+    "cursor_fig8_star_k0.90",
+];
+
+/// The runs of figure `name`: its scenario file, or one a panel (`NAME_PANEL`), alike but for
+/// `k` (the figure draws one wind field and one sea level).
+fn runs(name: &str) -> Result<Vec<CursorScenario>, FigureError> {
+    let texts = match plot::scenario_text(SCENARIOS, name) {
+        Ok(t) => vec![(name.to_string(), t)],
+        Err(_) => plot::scenario_panels(SCENARIOS, name)?
+            .into_iter()
+            .map(|(p, t)| (format!("{name}_{p}"), t))
+            .collect(),
+    };
+    let runs = texts
+        .iter()
+        .map(|(n, t)| plot::read_scenario(n, t, CursorScenario::parse))
+        .collect::<Result<Vec<_>, _>>()?;
+    let first = &runs[0];
+    if runs.iter().any(|r| {
+        (&r.wind, r.size, r.steps, r.seed, r.sea)
+            != (&first.wind, first.size, first.steps, first.seed, first.sea)
+    }) {
+        return Err(FigureError::Model(format!(
+            "{name}: its panels' scenarios differ in more than k"
+        )));
+    }
+    Ok(runs)
+}
 
 /// The figures, in the article's order.
 pub(super) const FIGURES: &[Figure] = &[
@@ -68,8 +110,6 @@ pub(super) const FIGURES: &[Figure] = &[
     },
 ];
 
-/// Seed of every landscape.
-const SEED: u64 = 1;
 /// Pixels per cell in the landscape figures.
 const CELL_PX: usize = 2;
 
@@ -234,18 +274,6 @@ pub(super) fn simulate(
     Ok(walk.into_heights())
 }
 
-/// The crescentic-ridge field: the converging generator with centres close across the drift.
-fn crescentic() -> WindSpec {
-    WindSpec::Converging {
-        angle_deg: 0.0,
-        speed: 60.0,
-        radial: 150.0,
-        wavelength: 60.0,
-        spacing: 40.0,
-        radius: 20.0,
-    }
-}
-
 /// The generator's article settings.
 fn article(name: &str) -> Result<WindSpec, FigureError> {
     WindSpec::article(name).ok_or_else(|| FigureError::Model(format!("no generator {name}")))
@@ -287,30 +315,26 @@ fn describe(spec: &WindSpec) -> String {
     }
 }
 
-/// Runs one landscape per `k` on `spec` in parallel; returns the field and the heights.
-fn landscapes(spec: &WindSpec, ks: &[f64]) -> Result<(WindField, Vec<Vec<u64>>), FigureError> {
-    let (w, h) = DEFAULT_SIZE;
-    let field = spec.field(w, h).map_err(model)?;
+/// Runs the walk of `run` once per `k` in parallel; returns the field and the heights.
+fn landscapes(run: &CursorScenario, ks: &[f64]) -> Result<(WindField, Vec<Vec<u64>>), FigureError> {
+    let (w, h) = run.size;
+    let field = run.wind.field(w, h).map_err(model)?;
     let runs: Result<Vec<Vec<u64>>, CursorError> = ks
         .par_iter()
-        .map(|&k| simulate(&field, k, ARTICLE_STEPS, SEED))
+        .map(|&k| simulate(&field, k, run.steps, run.seed))
         .collect();
     Ok((field, runs.map_err(model)?))
 }
 
-/// A figure of a wind field and its landscapes for several `k`, all flooded at the sea level
-/// `sea` resolves to on the first landscape.
-fn landscape_figure(
-    dir: &Path,
-    name: &str,
-    title: &str,
-    spec: &WindSpec,
-    ks: &[f64],
-    sea: SeaLevel,
-) -> Result<Vec<PathBuf>, FigureError> {
-    let (w, h) = DEFAULT_SIZE;
-    let (field, runs) = landscapes(spec, ks)?;
-    let level = sea.resolve(&runs[0]);
+/// A figure of a wind field and its landscapes, one a run of figure `name`'s scenarios, all
+/// flooded at the sea level that the scenarios' sea level resolves to on the first landscape.
+fn landscape_figure(dir: &Path, name: &str, title: &str) -> Result<Vec<PathBuf>, FigureError> {
+    let all = runs(name)?;
+    let run = &all[0];
+    let ks: Vec<f64> = all.iter().map(|r| r.k).collect();
+    let (w, h) = run.size;
+    let (field, runs) = landscapes(run, &ks)?;
+    let level = run.sea.resolve(&runs[0]);
     let mut pics = vec![wind_picture(
         "wind field (RGB encoding, arrows)".into(),
         &field,
@@ -331,9 +355,11 @@ fn landscape_figure(
         ));
     }
     let caption = format!(
-        "{}\n{w} x {h} torus, {ARTICLE_STEPS} steps, seed {SEED}; sea level {level:.0} visits ({}); cellsurf {VERSION}",
-        describe(spec),
-        sea_words(&sea)
+        "{}\n{w} x {h} torus, {} steps, seed {}; sea level {level:.0} visits ({}); cellsurf {VERSION}",
+        describe(&run.wind),
+        run.steps,
+        run.seed,
+        sea_words(&run.sea)
     );
     let path = dir.join(format!("{name}.png"));
     draw_pictures(&path, title, &caption, &pics, pics.len().min(4))?;
@@ -353,9 +379,6 @@ fn fig2(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig2_brownian",
         "Fig. 2: dune field generated by sheer Brownian motion (calm air)",
-        &WindSpec::Calm,
-        &[DEFAULT_K],
-        SeaLevel::Quantile(0.3),
     )
 }
 
@@ -364,9 +387,6 @@ fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig4_uniform",
         "Fig. 4: ridges form along the wind path in a uniform wind",
-        &article("uniform")?,
-        &[DEFAULT_K],
-        SeaLevel::Quantile(0.3),
     )
 }
 
@@ -375,9 +395,6 @@ fn fig5(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig5_linear",
         "Fig. 5: linear dunes under bimodal winds meeting head-on",
-        &article("bimodal")?,
-        &[DEFAULT_K],
-        SeaLevel::MeanFraction(0.5),
     )
 }
 
@@ -386,9 +403,6 @@ fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig6_barchan",
         "Fig. 6: barchan-like crescents, horns downwind (drift to the right)",
-        &article("converging")?,
-        &[DEFAULT_K],
-        SeaLevel::Quantile(0.85),
     )
 }
 
@@ -397,9 +411,6 @@ fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig7_crescentic",
         "Fig. 7: effect of k on crescentic dunes (a: k = 0.10, b: k = 0.50)",
-        &crescentic(),
-        &[0.10, 0.50],
-        SeaLevel::MeanFraction(1.3),
     )
 }
 
@@ -408,23 +419,23 @@ fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         dir,
         "cursor_fig8_star",
         "Fig. 8: effect of k on a network of star dunes (k = 0.25, 0.50, 0.90)",
-        &article("rotating")?,
-        &[0.25, 0.50, 0.90],
-        SeaLevel::MeanFraction(0.5),
     )
 }
 
+/// The effect of `k`: the runs of Figs. 7 and 8 (their scenarios' winds, sea levels, grids,
+/// steps and seeds) at four `k`.
 fn k_effect(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let (w, h) = DEFAULT_SIZE;
     let ks = [0.10, 0.25, 0.50, 0.90];
     let rows = [
-        (crescentic(), SeaLevel::MeanFraction(1.3)),
-        (article("rotating")?, SeaLevel::MeanFraction(0.5)),
+        runs("cursor_fig7_crescentic")?.remove(0),
+        runs("cursor_fig8_star")?.remove(0),
     ];
+    let (w, h) = rows[0].size;
     let mut pics = Vec::new();
     let mut lines = Vec::new();
-    for (spec, sea) in &rows {
-        let (field, runs) = landscapes(spec, &ks)?;
+    for run in &rows {
+        let (spec, sea) = (&run.wind, &run.sea);
+        let (field, runs) = landscapes(run, &ks)?;
         let level = sea.resolve(&runs[0]);
         pics.push(wind_picture(
             format!("{} wind", spec.name()),
@@ -452,7 +463,8 @@ fn k_effect(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         ));
     }
     lines.push(format!(
-        "{w} x {h} torus, {ARTICLE_STEPS} steps, seed {SEED}; lower k: fuzzier, lower dunes (more Brownian); cellsurf {VERSION}"
+        "{w} x {h} torus, {} steps, seed {}; lower k: fuzzier, lower dunes (more Brownian); cellsurf {VERSION}",
+        rows[0].steps, rows[0].seed
     ));
     let path = dir.join("cursor_k_effect.png");
     draw_pictures(

@@ -53,8 +53,8 @@
 //! default here is 240 x 240 ([`DEFAULT_SIZE`]: a mean height of 200, so that the article's
 //! default sea level of 100 is half the mean height).
 //!
-//! Figures (feature `plot`): [`FIGURES`]. [`CursorScenario`]: a `cellsurf cursor` scenario
-//! file read back.
+//! Figures (feature `plot`): [`FIGURES`], the runs of their scenario files read by
+//! [`CursorScenario`].
 
 pub mod display;
 #[cfg(feature = "plot")]
@@ -153,6 +153,10 @@ pub enum CursorError {
 /// The figures of this model, made by `cellsurf figures`.
 #[cfg(feature = "plot")]
 pub const FIGURES: &[crate::plot::Figure] = figures::FIGURES;
+
+/// The scenario files of the figures' runs (`scenarios/NAME.toml`), as `(NAME, text)`.
+#[cfg(feature = "plot")]
+pub const SCENARIOS: &[(&str, &str)] = figures::SCENARIOS;
 
 /// Draws a landscape next to its wind field into a PNG (written atomically): the wind as the
 /// article's input image with arrows, the heights flooded below `sea` (visits) with the

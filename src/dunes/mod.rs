@@ -133,8 +133,8 @@ pub use engine::DuneModel;
 pub use measure::{Bodies, DuneStats, above_threshold, bodies};
 #[cfg(feature = "plot")]
 pub use plot::{
-    ErrorStudy, FIGURES, FieldPanel, HEIGHT_LEVELS, MigrationRecorder, bodies_panel, describe,
-    draw_field, draw_result, gaussian_pile, height_color, height_palette, height_panel,
+    ErrorStudy, FIGURES, FieldPanel, HEIGHT_LEVELS, MigrationRecorder, SCENARIOS, bodies_panel,
+    describe, draw_field, draw_result, gaussian_pile, height_color, height_palette, height_panel,
     height_states,
 };
 pub use scenario::DuneScenario;

@@ -11,14 +11,26 @@
 use std::path::{Path, PathBuf};
 
 use plotters::style::{BLACK, RGBColor};
+use rayon::prelude::*;
 
 use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
-use super::{BODY_THRESHOLD, DuneConfig, DuneModel, Mode, VERSION, above_threshold, bodies};
+use super::{
+    BODY_THRESHOLD, DuneConfig, DuneModel, DuneScenario, Mode, VERSION, above_threshold, bodies,
+};
 use crate::engine::lattice::Lattice;
 use crate::plot::{
     self, CellField, Chart, ColorRamp, GifWriter, Mark, Palette, PlotError, Series, Sheet,
 };
-use crate::plot::{Figure, FigureError};
+use crate::plot::{Figure, FigureError, read_scenario, scenario_panels, scenario_text};
+
+/// The scenario files of the figures made from one run (or one run a panel), by file name:
+/// `dunes_barchan` has none (its initial pile is not a state `cellsurf dunes` starts from).
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "dunes_q1",
+    "dunes_q3",
+    "dunes_werner_q0.5",
+    "dunes_werner_q3",
+];
 
 /// The figures of this model, made by `cellsurf figures`.
 pub const FIGURES: &[Figure] = &[
@@ -479,25 +491,23 @@ const GIF_EVERY: u64 = 10;
 /// Side of `dunes_migration.gif`, pixels.
 const GIF_PX: u32 = 360;
 
-/// The article's dune mode at the defaults (grid 100, 500 iterations, seed 1) with sand
-/// quantity `q`: heights at t = 0, 100, 500 and the dune bodies at 500.
+/// The run of scenario `name` (the article's dune mode at its defaults, grid 100, 500
+/// iterations, seed 1, with a sand quantity `Q`): heights at t = 0, 100 and the last
+/// iteration, and the dune bodies then, under the title `Q = ..., claim`.
 fn dune_mode_figure(
     dir: &Path,
     name: &str,
-    q: f64,
     claim: &str,
     gif: Option<&str>,
 ) -> Result<Vec<PathBuf>, FigureError> {
-    let cfg = DuneConfig {
-        mode: Mode::Dune,
-        quantity: q,
-        ..DuneConfig::default()
-    };
+    let s = read_scenario(name, scenario_text(SCENARIOS, name)?, DuneScenario::parse)?;
+    let cfg = s.config;
+    let claim = format!("Q = {}, {claim}", cfg.quantity);
     record_parameters(name, &[&cfg]);
     let at = [0, 100, cfg.iterations];
     let mut rec = MigrationRecorder::new(cfg.grid);
     let (kept, m) = run_with_snapshots(&cfg, &at, gif.map(|_| (&mut rec, GIF_EVERY)))?;
-    let s = m.stats();
+    let stats = m.stats_with_threshold(s.threshold);
     let max = kept
         .iter()
         .flat_map(|(_, g)| g.iter())
@@ -512,14 +522,14 @@ fn dune_mode_figure(
     panels.push(bodies_panel(
         &format!(
             "t = {}: {} bodies ({} spanning), bare {:.0}%",
-            s.iteration,
-            s.dune_bodies,
-            s.spanning_bodies,
-            100.0 * s.bare_fraction
+            stats.iteration,
+            stats.dune_bodies,
+            stats.spanning_bodies,
+            100.0 * stats.bare_fraction
         ),
         m.grains(),
         m.lattice(),
-        BODY_THRESHOLD,
+        s.threshold,
     ));
     let path = dir.join(format!("{name}.png"));
     draw_field(
@@ -543,20 +553,13 @@ fn q1_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     dune_mode_figure(
         dir,
         "dunes_q1",
-        1.0,
-        "Q = 1, separate barchan-like dunes",
+        "separate barchan-like dunes",
         Some("dunes_migration.gif"),
     )
 }
 
 fn q3_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    dune_mode_figure(
-        dir,
-        "dunes_q3",
-        3.0,
-        "Q = 3, connected transverse ridges",
-        None,
-    )
+    dune_mode_figure(dir, "dunes_q3", "connected transverse ridges", None)
 }
 
 /// A round pile of sand, `amp` height units high at its centre `(cx, cy)` and of radius
@@ -619,33 +622,48 @@ fn barchan_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     Ok(vec![path])
 }
 
-/// Iterations of the Werner figure.
-const WERNER_ITERATIONS: u64 = 1000;
-
-/// The Werner variant with little sand (Q = 0.5) and much sand (Q = 3): heights and dune
-/// bodies after 1000 iterations on the default grid.
+/// The Werner variant with little sand and much sand (scenarios `dunes_werner_q0.5` and
+/// `dunes_werner_q3`: Q = 0.5 and Q = 3, 1000 iterations on the default grid): heights and
+/// dune bodies of each, the runs alike but for Q.
 fn werner_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let cfg = |q: f64| DuneConfig {
-        mode: Mode::Werner,
-        quantity: q,
-        iterations: WERNER_ITERATIONS,
-        ..DuneConfig::default()
-    };
-    let (little, much) = (cfg(0.5), cfg(3.0));
-    record_parameters("dunes_werner", &[&little, &much]);
-    // The two runs are independent: one per core.
-    let (a, b) = rayon::join(
-        || run_with_snapshots(&little, &[], None),
-        || run_with_snapshots(&much, &[], None),
-    );
-    let runs = [(0.5, a?.1), (3.0, b?.1)];
-    let max = runs
+    let runs: Vec<DuneScenario> = scenario_panels(SCENARIOS, "dunes_werner")?
+        .into_iter()
+        .map(|(panel, text)| {
+            read_scenario(&format!("dunes_werner_{panel}"), text, DuneScenario::parse)
+        })
+        .collect::<Result<_, _>>()?;
+    let first = &runs[0].config;
+    if runs.iter().any(|r| {
+        let c = &r.config;
+        (c.mode, c.grid, c.iterations, c.seed, &c.werner, r.threshold)
+            != (
+                Mode::Werner,
+                first.grid,
+                first.iterations,
+                first.seed,
+                &first.werner,
+                runs[0].threshold,
+            )
+    }) {
+        return Err(FigureError::Model(
+            "dunes_werner: its panels are Werner runs that differ in Q only".into(),
+        ));
+    }
+    let cfgs: Vec<&DuneConfig> = runs.iter().map(|r| &r.config).collect();
+    record_parameters("dunes_werner", &cfgs);
+    // The runs are independent: one per core.
+    let models = cfgs
+        .par_iter()
+        .map(|c| run_with_snapshots(c, &[], None).map(|(_, m)| m))
+        .collect::<Result<Vec<_>, _>>()?;
+    let threshold = runs[0].threshold;
+    let max = models
         .iter()
-        .map(|(_, m)| m.stats().max_height)
+        .map(|m| m.stats_with_threshold(threshold).max_height)
         .fold(0.0f64, f64::max);
     let mut panels = Vec::new();
-    for (q, m) in &runs {
-        let s = m.stats();
+    for (c, m) in cfgs.iter().zip(&models) {
+        let (q, s) = (c.quantity, m.stats_with_threshold(threshold));
         panels.push(height_panel(
             &format!("Q = {q}: heights, t = {}", s.iteration),
             m.grains(),
@@ -661,18 +679,28 @@ fn werner_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             ),
             m.grains(),
             m.lattice(),
-            BODY_THRESHOLD,
+            threshold,
         ));
     }
-    let w = crate::dunes::WernerParams::default();
+    let w = &first.werner;
+    let qs: Vec<String> = cfgs.iter().map(|c| format!("Q = {}", c.quantity)).collect();
     let path = dir.join("dunes_werner.png");
     draw_field(
         &path,
         &format!(
-            "Werner (1995) variant: little sand (Q = 0.5) and much sand (Q = 3)\n\
+            "Werner (1995) variant: little sand ({}) and much sand ({})\n\
              L = {}, p_sand {}, p_bare {}, shadow {}°, repose {}°, slab {}\n\
-             grid 100, seed 1 (wind →, cellsurf {VERSION})",
-            w.hop, w.p_sand, w.p_bare, w.shadow_deg, w.repose_deg, w.slab
+             grid {}, seed {} (wind →, cellsurf {VERSION})",
+            qs[0],
+            qs[qs.len() - 1],
+            w.hop,
+            w.p_sand,
+            w.p_bare,
+            w.shadow_deg,
+            w.repose_deg,
+            w.slab,
+            first.grid,
+            first.seed
         ),
         &panels,
         2,

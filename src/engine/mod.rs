@@ -20,7 +20,7 @@
 //! - [`io`]: [`write_atomic`](io::write_atomic) and the output checks: no reader ever sees a
 //!   partial file.
 //! - [`scenario`]: [`read`](scenario::read), a subcommand's scenario file (`model = "..."` and
-//!   its options) as the library reads it back.
+//!   its options) as the library reads it back for the published figures.
 //! - `zarr` (feature `zarr`): Zarr v3 stores written chunk by chunk by independent processes
 //!   (atomic chunks, metadata written by whichever writer comes first, checked by the others).
 //!

@@ -4,7 +4,9 @@
 //! `model = "SUB"`.
 //!
 //! [`read`] checks the model and hands the other keys to the model's own struct, which refuses
-//! a key it does not know; [`GridSize`] is a grid size as those files write it.
+//! a key it does not know; [`GridSize`] is a grid size as those files write it. The published
+//! figures read their scenario files (`scenarios/`) through these, so that a figure and the
+//! command that reruns its scenario take the same parameters from the same file.
 
 use std::fmt;
 

@@ -23,27 +23,12 @@ impl From<SceneError> for FigureError {
 }
 
 /// The scenario files, by figure name.
-pub const SCENARIOS: &[(&str, &str)] = &[
-    (
-        "growth_fig3_ca",
-        include_str!("../../scenarios/growth_fig3_ca.toml"),
-    ),
-    (
-        "growth_fig4_ca_axes",
-        include_str!("../../scenarios/growth_fig4_ca_axes.toml"),
-    ),
-    (
-        "growth_fig5_flame",
-        include_str!("../../scenarios/growth_fig5_flame.toml"),
-    ),
-    (
-        "growth_fig6_deposit",
-        include_str!("../../scenarios/growth_fig6_deposit.toml"),
-    ),
-    (
-        "growth_fig7_crystal",
-        include_str!("../../scenarios/growth_fig7_crystal.toml"),
-    ),
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "growth_fig3_ca",
+    "growth_fig4_ca_axes",
+    "growth_fig5_flame",
+    "growth_fig6_deposit",
+    "growth_fig7_crystal",
 ];
 
 /// The configuration of a figure's scenario.
@@ -57,13 +42,21 @@ pub fn scenario(name: &str) -> Result<SceneConfig, FigureError> {
 }
 
 /// The configuration of a figure's scenario, recorded in every PNG the figure writes from
-/// now on.
+/// now on ([`recorded`]).
 fn load(name: &str) -> Result<SceneConfig, FigureError> {
     let cfg = scenario(name)?;
     if let Some((_, text)) = SCENARIOS.iter().find(|(n, _)| *n == name) {
-        plot::set_png_parameters(Some(text.to_string()));
+        plot::set_png_parameters(Some(recorded(text)));
     }
     Ok(cfg)
+}
+
+/// A scenario file as a PNG records it: without its `# Run:` line, the command that runs the
+/// file (the run's parameters are the rest).
+pub fn recorded(text: &str) -> String {
+    text.split_inclusive('\n')
+        .filter(|l| !l.starts_with("# Run: "))
+        .collect()
 }
 
 /// The growth paper's figures, in the paper's order.

@@ -42,7 +42,8 @@ mod tests;
 pub use animation::GifWriter;
 pub use charts::{Chart, ChartTable, Series, line_charts, record_charts};
 pub use field::{ColorRamp, Mark, Sheet};
-pub use figure::{Figure, FigureError};
+pub(crate) use figure::scenario_files;
+pub use figure::{Figure, FigureError, read_scenario, scenario_panels, scenario_text};
 pub use panels::{Panel, lattice_panels};
 pub use raster::{BACKGROUND, CellField, Palette, rasterize};
 

@@ -1,15 +1,17 @@
 //! The ray-tracing figures (feature `plot`), listed in [`FIGURES`]:
 //!
-//! - `ripple_fig5_raytrace`: the paper's Fig. 5. One row a sound-speed profile (isovelocity; a
+//! - `ripple_fig5_raytrace`: the paper's Fig. 5. One row a sound-speed profile, each row one
+//!   run of `cellsurf raytrace` read from its scenario file ([`SCENARIOS`]; isovelocity; a
 //!   downward-refracting linear thermocline, c = 1525 - 2.5 z; a table with an
 //!   upward-refracting bottom layer, 1500 m/s down to 10 m rising to 1506 m/s at 12 m): the
 //!   profile on the left, the ray fan from S (10 m depth, 2 m above the bed, launch angles 1.5
 //!   to 25 degrees) over 60 m of rippled floor in the middle, with the floor coloured lit or in
 //!   shadow, and on the right one ripple tile (0.64 m at 40 m range) magnified, with rays
-//!   arriving. The floor is a row of the built-in generated ripple field
-//!   ([`RippleSurface::generated`], seed 1) tiled 94 times, 12 m deep. Exaggerated: the
-//!   gradients (2.5 and 3 m/s per metre, strong but seen in coastal thermoclines) so that the
-//!   bending shows within 60 m; the vertical scale of the right panel.
+//!   arriving. The floor is the subcommand's section through the built-in generated ripple
+//!   field ([`RippleSurface::generated`](super::RippleSurface::generated), seed 1) along its middle row, 94 tiles (60.16 m)
+//!   long, 12 m deep. Exaggerated: the gradients (2.5 and 3 m/s per metre, strong but seen in
+//!   coastal thermoclines) so that the bending shows within 60 m; the vertical scale of the
+//!   right panel.
 //! - `raytrace_error_vs_time`: [`super::error_study`], arc-radius error and Snell drift against
 //!   step size and CPU time per ray.
 
@@ -19,10 +21,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::seafloor::RippleSurface;
 use super::{
-    Fan, Insonification, InsonifyOptions, Ray, Seafloor, SectionLine, SoundSpeed, Table,
-    TraceOptions, Tracer, VERSION, error_study, insonify,
+    Insonification, InsonifyOptions, Ray, RaytraceScenario, Seafloor, SoundSpeed, TraceOptions,
+    Tracer, VERSION, error_study, insonify,
 };
 use crate::plot::{Chart, PlotError, Series, line_charts};
 use crate::plot::{Figure, FigureError};
@@ -45,66 +46,99 @@ fn model_err(e: impl std::fmt::Display) -> FigureError {
     FigureError::Model(e.to_string())
 }
 
-/// Water depth of the Fig. 5 scene, m.
-pub const FIG5_WATER_DEPTH: f64 = 12.0;
-/// The transducer S of Fig. 5: (range, depth), m.
-pub const FIG5_SOURCE: (f64, f64) = (0.0, 10.0);
-/// Launch angles of Fig. 5, degrees below the horizontal.
-pub const FIG5_ANGLES: (f64, f64) = (1.5, 25.0);
+/// The scenario files of the rows of `ripple_fig5_raytrace` (`ripple_fig5_raytrace_PROFILE`),
+/// by file name, in the figure's order.
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "ripple_fig5_raytrace_isovelocity",
+    "ripple_fig5_raytrace_thermocline",
+    "ripple_fig5_raytrace_table",
+];
+
+/// The sound-speed tables the scenario files name, by the path written in them.
+pub const TABLES: &[(&str, &str)] = &[(
+    "scenarios/ripple_fig5_raytrace_table.csv",
+    include_str!("../../scenarios/ripple_fig5_raytrace_table.csv"),
+)];
+
+/// The text of a table of [`TABLES`].
+fn table(path: &str) -> Result<String, String> {
+    TABLES
+        .iter()
+        .find(|(p, _)| *p == path)
+        .map(|(_, t)| t.to_string())
+        .ok_or_else(|| format!("not a table of the figures ({path})"))
+}
+
+/// The runs of Fig. 5, one a row, from [`SCENARIOS`]: alike but for the profile (the rows
+/// share one floor and one fan).
+pub fn fig5_runs() -> Result<Vec<RaytraceScenario>, FigureError> {
+    let runs = crate::plot::scenario_panels(SCENARIOS, "ripple_fig5_raytrace")?
+        .into_iter()
+        .map(|(panel, text)| {
+            crate::plot::read_scenario(&format!("ripple_fig5_raytrace_{panel}"), text, |t: &str| {
+                RaytraceScenario::parse(t, &table)
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let first = &runs[0];
+    if runs.iter().any(|r| {
+        r.straight
+            || RaytraceScenario {
+                profile: first.profile.clone(),
+                ..r.clone()
+            } != *first
+    }) {
+        return Err(model_err(
+            "ripple_fig5_raytrace: its rows are ray runs that differ in the profile only",
+        ));
+    }
+    Ok(runs)
+}
+
+/// A row's title: the profile in words.
+fn title(p: &SoundSpeed) -> String {
+    match p {
+        SoundSpeed::Isovelocity(c) => format!("isovelocity {c} m/s"),
+        SoundSpeed::Linear { c0, g } if *g < 0.0 => {
+            format!("thermocline: linear {c0} - {} z", -g)
+        }
+        SoundSpeed::Table(t) => {
+            let (z, v) = (t.depths(), t.values());
+            let n = z.len();
+            let g = (v[n - 1] - v[n - 2]) / (z[n - 1] - z[n - 2]);
+            let kind = if g > 0.0 { "inversion" } else { "gradient" };
+            format!("table: bottom {kind} {g:+} m/s per m below {} m", z[n - 2])
+        }
+        p => p.describe(),
+    }
+}
 
 /// The three profiles of Fig. 5, with their titles.
 pub fn fig5_profiles() -> Result<Vec<(String, SoundSpeed)>, FigureError> {
-    let table = Table::new(
-        "profile table",
-        vec![0.0, 10.0, 12.0],
-        vec![1500.0, 1500.0, 1506.0],
-        super::profile::SPEED_LIMITS,
-    )
-    .map_err(model_err)?;
-    Ok(vec![
-        (
-            "isovelocity 1500 m/s".into(),
-            SoundSpeed::Isovelocity(1500.0),
-        ),
-        (
-            "thermocline: linear 1525 - 2.5 z".into(),
-            SoundSpeed::Linear {
-                c0: 1525.0,
-                g: -2.5,
-            },
-        ),
-        (
-            "table: bottom inversion +3 m/s per m below 10 m".into(),
-            SoundSpeed::Table(table),
-        ),
-    ])
+    Ok(fig5_runs()?
+        .into_iter()
+        .map(|r| (title(&r.profile), r.profile))
+        .collect())
 }
 
-/// The Fig. 5 floor: row 8 of the generated ripple field (seed 1), 94 tiles (60.2 m).
+/// The Fig. 5 floor: the scenarios' section through the generated ripple field (seed 1), 94
+/// tiles (60.16 m) of its middle row.
 pub fn fig5_floor() -> Result<Seafloor, FigureError> {
-    let surf = RippleSurface::generated(1).map_err(model_err)?;
-    surf.grid()
-        .section(SectionLine::Row { j: 8, tiles: 94 }, FIG5_WATER_DEPTH, 0.0)
-        .map_err(model_err)
+    fig5_runs()?[0].floor().map_err(model_err)
 }
 
-/// The insonification options of Fig. 5 (and of `cellsurf raytrace` by default).
-pub fn fig5_options() -> InsonifyOptions {
-    InsonifyOptions {
-        trace: TraceOptions {
-            ds: 0.25,
-            max_path: 100.0,
-            max_bounces: 10,
-            stop_at_bottom: true,
-            record: false,
-        },
-        ..InsonifyOptions::default()
-    }
+/// The insonification options of Fig. 5 over `floor`.
+pub fn fig5_options(floor: &Seafloor) -> Result<InsonifyOptions, FigureError> {
+    Ok(fig5_runs()?[0].options(floor))
 }
 
 struct Row {
     title: String,
     profile: SoundSpeed,
+    /// The transducer S (range, depth), m.
+    source: (f64, f64),
+    /// The water depth of the floor's substrate, m (the depth axis).
+    water_depth: f64,
     ins: Insonification,
     fan: Vec<Ray>,
     zoom_rays: Vec<Ray>,
@@ -112,18 +146,12 @@ struct Row {
 
 const ZOOM: (f64, f64) = (40.0, 40.64);
 
-fn fig5_row(title: String, profile: SoundSpeed, floor: &Seafloor) -> Result<Row, FigureError> {
-    let t = Tracer::new(&profile, floor).map_err(model_err)?;
-    let (sx, sz) = FIG5_SOURCE;
-    let fan = Fan::Point {
-        x: sx,
-        z: sz,
-        min_deg: FIG5_ANGLES.0,
-        max_deg: FIG5_ANGLES.1,
-        rays: 200,
-    };
-    let o = fig5_options();
-    let ins = insonify(&t, &fan, &o).map_err(model_err)?;
+fn fig5_row(run: RaytraceScenario, floor: &Seafloor) -> Result<Row, FigureError> {
+    let t = Tracer::new(&run.profile, floor).map_err(model_err)?;
+    let (sx, sz) = run.source;
+    let angles = run.angles;
+    let o = run.options(floor);
+    let ins = insonify(&t, &run.fan(), &o).map_err(model_err)?;
     let show = TraceOptions {
         record: true,
         ..o.trace
@@ -131,7 +159,7 @@ fn fig5_row(title: String, profile: SoundSpeed, floor: &Seafloor) -> Result<Row,
     let n = 24;
     let fan_rays = (0..n)
         .map(|i| {
-            let a = FIG5_ANGLES.0 + (FIG5_ANGLES.1 - FIG5_ANGLES.0) * i as f64 / (n - 1) as f64;
+            let a = angles.0 + (angles.1 - angles.0) * i as f64 / (n - 1) as f64;
             t.trace(sx, sz, a, &show)
         })
         .collect::<Result<Vec<_>, _>>()
@@ -152,8 +180,10 @@ fn fig5_row(title: String, profile: SoundSpeed, floor: &Seafloor) -> Result<Row,
         .collect::<Result<Vec<_>, _>>()
         .map_err(model_err)?;
     Ok(Row {
-        title,
-        profile,
+        title: title(&run.profile),
+        profile: run.profile,
+        source: run.source,
+        water_depth: run.water_depth,
         ins,
         fan: fan_rays,
         zoom_rays,
@@ -165,10 +195,12 @@ const DARK: RGBColor = RGBColor(25, 25, 60);
 const RAY: RGBColor = RGBColor(60, 120, 200);
 
 fn fig5(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let floor = fig5_floor()?;
-    let rows = fig5_profiles()?
+    let runs = fig5_runs()?;
+    let floor = runs[0].floor().map_err(model_err)?;
+    let (source, angles) = (runs[0].source, runs[0].angles);
+    let rows = runs
         .into_iter()
-        .map(|(t, p)| fig5_row(t, p, &floor))
+        .map(|r| fig5_row(r, &floor))
         .collect::<Result<Vec<_>, _>>()?;
     let (w_prof, w_fan, w_zoom, h_row, h_title) = (230u32, 820u32, 420u32, 300u32, 44u32);
     let (w, h) = (w_prof + w_fan + w_zoom, h_row * rows.len() as u32 + h_title);
@@ -181,7 +213,7 @@ fn fig5(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         top.draw(&Text::new(
             format!(
                 "Fig. 5: ray fans from S ({} m deep, 2 m above the bed, {}-{} deg) and the shadows on a rippled floor (lit orange, shadow dark; cellsurf {VERSION})",
-                FIG5_SOURCE.1, FIG5_ANGLES.0, FIG5_ANGLES.1
+                source.1, angles.0, angles.1
             ),
             ((w / 2) as i32, (h_title / 2) as i32),
             ("sans-serif", 17.0, FontStyle::Bold)
@@ -215,7 +247,7 @@ fn draw_profile<DB: DrawingBackend>(
     row: &Row,
 ) -> Result<(), PlotError> {
     let zs: Vec<f64> = (0..=240)
-        .map(|i| FIG5_WATER_DEPTH * i as f64 / 240.0)
+        .map(|i| row.water_depth * i as f64 / 240.0)
         .collect();
     let cs: Vec<f64> = zs.iter().map(|&z| row.profile.speed(z)).collect();
     let lo = cs.iter().copied().fold(f64::INFINITY, f64::min);
@@ -226,7 +258,7 @@ fn draw_profile<DB: DrawingBackend>(
         .caption("c(z)", ("sans-serif", 14))
         .x_label_area_size(34)
         .y_label_area_size(40)
-        .build_cartesian_2d(lo - pad..hi + pad, -FIG5_WATER_DEPTH - 0.3..0.0)
+        .build_cartesian_2d(lo - pad..hi + pad, -row.water_depth - 0.3..0.0)
         .map_err(PlotError::drawing)?;
     ctx.configure_mesh()
         .x_desc("m/s")
@@ -244,8 +276,8 @@ fn draw_profile<DB: DrawingBackend>(
         RED.stroke_width(2),
     ))
     .map_err(PlotError::drawing)?;
-    let cs_s = row.profile.speed(FIG5_SOURCE.1);
-    ctx.draw_series([Circle::new((cs_s, -FIG5_SOURCE.1), 4, BLACK.filled())])
+    let cs_s = row.profile.speed(row.source.1);
+    ctx.draw_series([Circle::new((cs_s, -row.source.1), 4, BLACK.filled())])
         .map_err(PlotError::drawing)?;
     Ok(())
 }
@@ -295,7 +327,7 @@ fn draw_fan<DB: DrawingBackend>(
         )
         .x_label_area_size(34)
         .y_label_area_size(40)
-        .build_cartesian_2d(x0..x1, -FIG5_WATER_DEPTH - 0.3..0.0)
+        .build_cartesian_2d(x0..x1, -row.water_depth - 0.3..0.0)
         .map_err(PlotError::drawing)?;
     ctx.configure_mesh()
         .x_desc("range (m)")
@@ -313,7 +345,7 @@ fn draw_fan<DB: DrawingBackend>(
         .map_err(PlotError::drawing)?;
     }
     draw_floor(&mut ctx, floor, &row.ins, (x0, x1), 4)?;
-    let s = (FIG5_SOURCE.0, -FIG5_SOURCE.1);
+    let s = (row.source.0, -row.source.1);
     ctx.draw_series([EmptyElement::at(s)
         + TriangleMarker::new((0, 0), 7, RED.filled())
         + Text::new("S", (8, -16), ("sans-serif", 15).into_font())])

@@ -665,7 +665,7 @@ impl RippleSurface {
     }
 
     /// The built-in generated seafloor: a 3-D ripple run with the paper's Fig. 3 settings
-    /// (scene `ripple_fig3`: d50 0.2 mm, sorting 1 phi, current 0.5 m/s along +x) on
+    /// (scenario `ripple_fig3_evolution`: d50 0.2 mm, sorting 1 phi, current 0.5 m/s along +x) on
     /// 128 x 16 columns of 5 mm (a 0.64 m x 0.08 m tile), the defaults' 10,000 steps, seed
     /// `seed`.
     pub fn generated(seed: u64) -> Result<Self, RaytraceError> {

@@ -2,12 +2,14 @@
 //! 8 regenerated, the error-versus-CPU-time study ([`ErrorStudy`]) and the validation against
 //! the ripple predictors ([`ValidationStudy`]).
 //!
-//! Sizes are reduced so that all of them together take well under a minute in release: the
-//! figure run is the scene `scenarios/ripple_fig3.toml` (128 x 64 columns x 30 automata,
-//! 10000 steps), shared by Figs. 3, 4, 7 and 8 (run once per process).
+//! Each of Figs. 2, 3, 4, 7 and 8 takes its parameters from its scenario file ([`SCENARIOS`],
+//! `scenarios/NAME.toml`, a `cellsurf ripple` scenario). Sizes are reduced so that all of them
+//! together take well under a minute in release: Figs. 3, 4, 7 and 8 draw the same run (128 x
+//! 64 columns x 30 automata, 10000 steps; their four files hold the same parameters), made once
+//! per process; Fig. 2 is a 2-D section.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use plotters::style::RGBColor;
@@ -21,8 +23,14 @@ use crate::plot::{
 };
 use crate::plot::{Figure, FigureError};
 
-/// The figure scene (the defaults: the paper's Fig. 3 situation).
-pub const FIG3_SCENE: &str = include_str!("../../scenarios/ripple_fig3.toml");
+/// The scenario files of the figures made from one run, by figure name.
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "ripple_fig2_shadow",
+    "ripple_fig3_evolution",
+    "ripple_fig4_impedance",
+    "ripple_fig7_section",
+    "ripple_fig8_surface_grain_size",
+];
 
 /// The figures.
 pub const FIGURES: &[Figure] = &[
@@ -82,43 +90,46 @@ pub(crate) fn field(nx: usize, ny: usize, states: Vec<u8>) -> CellField {
     }
 }
 
-fn scene() -> Result<RippleParams, FigureError> {
-    RippleParams::from_toml(FIG3_SCENE).map_err(model_err)
+/// The parameters of a figure's scenario ([`SCENARIOS`]).
+pub fn scenario(name: &str) -> Result<RippleParams, FigureError> {
+    crate::plot::read_scenario(
+        name,
+        crate::plot::scenario_text(SCENARIOS, name)?,
+        RippleParams::from_toml,
+    )
 }
 
-/// The shared figure run: snapshots at t0, t10, t25, t100 (in hundredths of the run) and the
-/// final state.
+/// A figure run: snapshots at t0, t10, t25, t100 (in hundredths of the run) and the final
+/// state.
 struct FigRun {
     snaps: Vec<(u64, Vec<f32>)>,
     last: Ripple,
 }
 
-fn fig_run() -> Result<&'static FigRun, FigureError> {
-    static RUN: OnceLock<Result<FigRun, String>> = OnceLock::new();
-    let r = RUN.get_or_init(|| {
-        let p = scene().map_err(|e| e.to_string())?;
-        let mut r = Ripple::new(&p).map_err(|e| e.to_string())?;
-        let times: Vec<u64> = [0u64, 10, 25, 100]
-            .iter()
-            .map(|k| p.steps * k / 100)
-            .collect();
-        let snaps = run_recording(&mut r, p.steps, &times, |_| {});
-        Ok(FigRun { snaps, last: r })
-    });
-    r.as_ref().map_err(|e| FigureError::Model(e.clone()))
+/// The run of figure `name`'s scenario, made once per process for all the figures whose
+/// scenarios hold the same parameters.
+fn fig_run(name: &str) -> Result<Arc<FigRun>, FigureError> {
+    type Runs = Vec<(RippleParams, Arc<FigRun>)>;
+    static RUNS: Mutex<Runs> = Mutex::new(Vec::new());
+    let p = scenario(name)?;
+    let mut runs = RUNS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, r)) = runs.iter().find(|(q, _)| *q == p) {
+        return Ok(r.clone());
+    }
+    let mut r = Ripple::new(&p).map_err(model_err)?;
+    let times: Vec<u64> = [0u64, 10, 25, 100]
+        .iter()
+        .map(|k| p.steps * k / 100)
+        .collect();
+    let snaps = run_recording(&mut r, p.steps, &times, |_| {});
+    let run = Arc::new(FigRun { snaps, last: r });
+    runs.push((p, run.clone()));
+    Ok(run)
 }
 
 fn fig2(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     // A 2-D section: a short run from a rough bed, then the sliced water volume over it.
-    let p = RippleParams {
-        mode: super::Mode::TwoD,
-        nx: 160,
-        ny: 1,
-        layers: 30,
-        steps: 6000,
-        activity: 0.004,
-        ..scene()?
-    };
+    let p = scenario("ripple_fig2_shadow")?;
     let mut r = Ripple::new(&p).map_err(model_err)?;
     r.run(p.steps, |_| {});
     let (nx, _) = r.size();
@@ -193,7 +204,7 @@ fn fig2(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 }
 
 fn fig3(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let run = fig_run()?;
+    let run = fig_run("ripple_fig3_evolution")?;
     let (nx, ny) = run.last.size();
     let all: Vec<f64> = run
         .snaps
@@ -247,7 +258,7 @@ fn surface_values(r: &Ripple, f: Field) -> Vec<f64> {
 }
 
 fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let run = fig_run()?;
+    let run = fig_run("ripple_fig4_impedance")?;
     let r = &run.last;
     let (nx, ny) = r.size();
     let z = surface_values(r, Field::Impedance);
@@ -280,7 +291,7 @@ fn fig4(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 }
 
 fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let run = fig_run()?;
+    let run = fig_run("ripple_fig7_section")?;
     let r = &run.last;
     let (nx, ny) = r.size();
     let nz = volume_levels(r);
@@ -374,7 +385,7 @@ fn fig7(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 }
 
 fn fig8(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let run = fig_run()?;
+    let run = fig_run("ripple_fig8_surface_grain_size")?;
     let r = &run.last;
     let (nx, ny) = r.size();
     let d = moore_average(r, &surface_values(r, Field::GrainSize));
@@ -462,7 +473,7 @@ fn study_configs() -> Result<Vec<StudyConfig>, String> {
         nx: 64,
         ny: 32,
         layers: 20,
-        ..scene().map_err(|e| e.to_string())?
+        ..scenario("ripple_fig3_evolution").map_err(|e| e.to_string())?
     };
     let grid = |nx, ny| RippleParams {
         nx,
@@ -722,7 +733,7 @@ impl ValidationCase {
         let base = RippleParams {
             layers: 20,
             seed,
-            ..scene().map_err(|e| e.to_string())?
+            ..scenario("ripple_fig3_evolution").map_err(|e| e.to_string())?
         };
         Ok(match self {
             ValidationCase::Current(d50, _) => RippleParams {

@@ -2,22 +2,23 @@
 //! joined into a larger surface) and Fig. 9 (ripples on fractal dunes), with companion charts of
 //! the seam statistic and of the dune spectrum.
 //!
-//! The tiles are small in-process ripple runs (64 x 32 bins, 20 automata per column, 1500 steps
-//! at 0.4 % activity), so that both figures take a few seconds in release.
+//! Each mosaic is one `cellsurf tile --generate` run read from its scenario file ([`SCENARIOS`];
+//! Fig. 6 one a panel). The tiles are small in-process ripple runs (64 x 32 bins, 20 automata per
+//! column, 1500 steps at 0.4 % activity, seeds 1-3), so that both figures take a few seconds in
+//! release; each seed's run is made once per process for every scenario that asks for it.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::sync::Mutex;
 
 use plotters::style::RGBColor;
 
 use super::fractal::{DuneField, FbmParams, Relief, measured_slope, radial_spectrum};
 use super::seam::SeamStats;
 use super::stream::RowSource;
-use super::tileset::tiles_from_run;
-use super::{Choose, DuneParams, Mosaic, RippledDunes, SeamMeter, Tile};
+use super::{Choose, Mosaic, RippledDunes, SeamMeter, Tile, TileScenario};
 use crate::plot::field::{finite_range, states_over};
 use crate::plot::{Chart, Palette, Panel, Series, lattice_panels, line_charts};
-use crate::plot::{Figure, FigureError};
+use crate::plot::{Figure, FigureError, read_scenario, scenario_panels, scenario_text};
 use crate::ripple::RippleParams;
 use crate::ripple::figures::{field, ramp_palette};
 
@@ -39,27 +40,43 @@ fn model_err(e: impl std::fmt::Display) -> FigureError {
     FigureError::Model(e.to_string())
 }
 
-/// The tile run: 64 x 32 bins, 20 automata per column.
-fn tile_params() -> RippleParams {
-    RippleParams {
-        nx: 64,
-        ny: 32,
-        layers: 20,
-        steps: 1500,
-        activity: 0.004,
-        ..RippleParams::default()
+/// The scenario files of the figures' runs, by file name (Fig. 6: one a panel,
+/// `ripple_fig6_tiles_PANEL`).
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
+    "ripple_fig6_tiles_same",
+    "ripple_fig6_tiles_patches",
+    "ripple_fig6_tiles_blended",
+    "ripple_fig9_fractal_dunes",
+];
+
+/// The tiles of `s`, seed by seed; each seed's ripple run is made once per process.
+fn tiles(s: &TileScenario) -> Result<Vec<Tile>, FigureError> {
+    type Key = (RippleParams, Vec<u64>, Option<crate::ripple::Field>, u64);
+    static MADE: Mutex<Vec<(Key, Vec<Tile>)>> = Mutex::new(Vec::new());
+    let mut made = MADE.lock().unwrap_or_else(|e| e.into_inner());
+    let mut all = Vec::new();
+    for &seed in &s.seeds {
+        let key: Key = (s.ripple.clone(), s.snapshots.clone(), s.volume, seed);
+        if let Some((_, t)) = made.iter().find(|(k, _)| *k == key) {
+            all.extend(t.iter().cloned());
+            continue;
+        }
+        let t = s.tiles_of_seed(seed).map_err(model_err)?;
+        all.extend(t.iter().cloned());
+        made.push((key, t));
     }
+    Ok(all)
 }
 
-/// Seeds 1, 2, 3 at the last step (run once per process).
-fn seed_tiles() -> Result<&'static Vec<Tile>, FigureError> {
-    static T: OnceLock<Result<Vec<Tile>, String>> = OnceLock::new();
-    T.get_or_init(|| {
-        let p = tile_params();
-        tiles_from_run(&p, &[1, 2, 3], &[p.steps], None, |_| {}).map_err(|e| e.to_string())
-    })
-    .as_ref()
-    .map_err(|e| FigureError::Model(e.clone()))
+/// A panel's name: the tiles it lays and how.
+fn panel_name(s: &TileScenario) -> String {
+    let lo = s.seeds.iter().min().copied().unwrap_or(0);
+    let hi = s.seeds.iter().max().copied().unwrap_or(0);
+    match (s.choose, s.blend) {
+        (Choose::Same, _) => format!("same tile (seed {})", s.seeds[0]),
+        (Choose::Patches, 0) => format!("patches of seeds {lo}-{hi}, no blend"),
+        (Choose::Patches, b) => format!("patches, cross-faded over {b} bins"),
+    }
 }
 
 /// Every row of a source, and its seam statistic.
@@ -98,20 +115,34 @@ fn ratio(s: &SeamStats) -> String {
 }
 
 fn fig6(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let tiles = seed_tiles()?;
-    let same = Mosaic::new(vec![tiles[0].clone()], 3, 3, Choose::Same, 1, 0).map_err(model_err)?;
-    let raw = Mosaic::new(tiles.clone(), 3, 3, Choose::Patches, 4, 0).map_err(model_err)?;
-    let blended = Mosaic::new(tiles.clone(), 3, 3, Choose::Patches, 4, 16).map_err(model_err)?;
-    let cases = [
-        ("same tile (seed 1)", &same),
-        ("patches of seeds 1-3, no blend", &raw),
-        ("patches, cross-faded over 16 bins", &blended),
-    ];
-    let measured: Vec<(Vec<f64>, SeamStats)> = cases.iter().map(|(_, m)| rows(*m)).collect();
+    let mut cases: Vec<(String, Mosaic)> = Vec::new();
+    for (panel, text) in scenario_panels(SCENARIOS, "ripple_fig6_tiles")? {
+        let s = read_scenario(
+            &format!("ripple_fig6_tiles_{panel}"),
+            text,
+            TileScenario::parse,
+        )?;
+        if s.dunes.is_some() {
+            return Err(FigureError::Model(format!(
+                "ripple_fig6_tiles_{panel}: Fig. 6 draws mosaics without dunes"
+            )));
+        }
+        let m = s.mosaic(tiles(&s)?).map_err(model_err)?;
+        cases.push((panel_name(&s), m));
+    }
+    let (w, h) = cases[0].1.size();
+    let tile = cases[0].1.tile_size();
+    if cases
+        .iter()
+        .any(|(_, m)| (m.size(), m.tile_size()) != ((w, h), tile))
+    {
+        return Err(FigureError::Model(
+            "ripple_fig6_tiles: its panels are mosaics of one size".into(),
+        ));
+    }
+    let measured: Vec<(Vec<f64>, SeamStats)> = cases.iter().map(|(_, m)| rows(m)).collect();
     let all: Vec<f64> = measured.iter().flat_map(|m| m.0.iter().copied()).collect();
     let (lo, hi) = finite_range(&all);
-    let (w, h) = same.size();
-    let tile = same.tile_size();
     let panels: Vec<Panel> = cases
         .iter()
         .zip(&measured)
@@ -223,17 +254,22 @@ fn hillshade(v: &[f64], w: usize, h: usize, dx: f64, exaggeration: f64) -> Vec<u
         .collect()
 }
 
+fn fbm_only(name: &str) -> FigureError {
+    FigureError::Model(format!(
+        "{name}: Fig. 9 draws fractal (fBm) dunes: dunes = true, no dune_wavelength"
+    ))
+}
+
 fn fig9(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let tiles = seed_tiles()?;
-    let hurst = 0.7;
-    let mosaic = Mosaic::new(tiles.clone(), 12, 24, Choose::Patches, 2, 16).map_err(model_err)?;
-    let p = DuneParams {
-        relief: Relief::Fbm { hurst },
-        rms: 0.06,
-        grid: 48,
-        current_angle: 0.0,
-        steering: 4.0,
-        seed: 3,
+    let name = "ripple_fig9_fractal_dunes";
+    let s = read_scenario(name, scenario_text(SCENARIOS, name)?, TileScenario::parse)?;
+    let mosaic = s.mosaic(tiles(&s)?).map_err(model_err)?;
+    let (p, hurst) = match s.dune_params(&mosaic).map_err(model_err)? {
+        Some(p) => match p.relief {
+            Relief::Fbm { hurst } => (p, hurst),
+            Relief::Wavelength { .. } => return Err(fbm_only(name)),
+        },
+        None => return Err(fbm_only(name)),
     };
     let d = RippledDunes::new(mosaic, &p).map_err(model_err)?;
     let (w, h) = (d.width(), d.height());

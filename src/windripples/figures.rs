@@ -12,9 +12,12 @@ use crate::plot::{self, Chart, ColorRamp, FigureError, Mark, PlotError, Series, 
 
 use crate::engine::VERSION;
 
-/// Steps of the `windripples_height` figure: a quarter of the notebook's 1024, so that
-/// `cellsurf figures` stays quick (`cellsurf wind-ripples --out` draws the full run).
-pub const FIGURE_STEPS: u64 = 256;
+/// The scenario files of the figures made from one run, by figure name: the
+/// `windripples_height` run is the notebook's at its defaults but for its steps, a quarter of
+/// its 1024, so that `cellsurf figures` stays quick (`cellsurf wind-ripples --out` draws the
+/// full run).
+pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files!["windripples_height",];
+
 /// Seeds of the `windripples_error_vs_time` figure.
 pub const ERROR_SEEDS: u64 = 8;
 /// Steps of each run of the `windripples_error_vs_time` figure.
@@ -231,13 +234,19 @@ pub fn draw_spectrum(path: &Path, r: &WindRun) -> Result<(), PlotError> {
     )
 }
 
-/// `windripples_height.png` (the notebook's figure, default parameters, [`FIGURE_STEPS`]
-/// steps) and `windripples_height_spectrum.png`.
+/// The parameters of a figure's scenario ([`SCENARIOS`]).
+pub fn scenario(name: &str) -> Result<WindParams, FigureError> {
+    plot::read_scenario(
+        name,
+        plot::scenario_text(SCENARIOS, name)?,
+        WindParams::from_scenario,
+    )
+}
+
+/// `windripples_height.png` (the notebook's figure, its scenario `windripples_height`) and
+/// `windripples_height_spectrum.png`.
 pub fn height_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let params = WindParams {
-        steps: FIGURE_STEPS,
-        ..WindParams::default()
-    };
+    let params = scenario("windripples_height")?;
     let r = run(&params, |_| {}).map_err(|e| FigureError::Model(e.to_string()))?;
     // The run's parameters in the PNG files (`Figure::make` records only the name).
     plot::set_png_parameters(Some(params.describe_toml()));
