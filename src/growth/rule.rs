@@ -56,7 +56,15 @@ pub struct Sticking {
     ratio: [[f64; 9]; 9],
     /// `inv_ratio[r][b] = 1 / ratio[r][b]` where that ratio is a normal float (else 0).
     inv_ratio: [[f64; 9]; 9],
+    /// For a whole `n >= 1` with `z^n <= 2^35`: `int_w[b] = b^n`, the weights `(b/z)^n` times
+    /// `z^n`, exact integers (a class's count times its weight, summed over the classes of a
+    /// lattice of fewer than 2^28 cells, stays below 2^63); `None` otherwise.
+    int_w: Option<[u64; 9]>,
 }
+
+/// The largest `z^n` for which [`Sticking::int_weights`] are kept (so that a lattice of fewer
+/// than 2^28 cells sums its sites' integer weights below 2^63).
+pub const MAX_INT_WEIGHT: u64 = 1 << 35;
 
 impl Sticking {
     /// The rule for exponent `n` (>= 0, finite) on a neighbourhood of `z` cells (1..=8).
@@ -81,6 +89,17 @@ impl Sticking {
         }
         // (a subnormal ratio's reciprocal may overflow: those classes keep the division)
         let inv_ratio = ratio.map(|row| row.map(|x| if x.is_normal() { 1.0 / x } else { 0.0 }));
+        let int_w = (n >= 1.0 && n.fract() == 0.0 && n <= 64.0)
+            .then(|| (z as u64).checked_pow(n as u32))
+            .flatten()
+            .filter(|&zn| zn <= MAX_INT_WEIGHT)
+            .map(|_| {
+                let mut w = [0u64; 9];
+                for (b, x) in w.iter_mut().enumerate().take(z + 1) {
+                    *x = (b as u64).pow(n as u32);
+                }
+                w
+            });
         Ok(Sticking {
             n,
             z,
@@ -88,6 +107,7 @@ impl Sticking {
             ln_p,
             ratio,
             inv_ratio,
+            int_w,
         })
     }
 
@@ -124,6 +144,14 @@ impl Sticking {
     #[inline]
     pub fn ratio(&self, r: usize, b: usize) -> f64 {
         self.ratio[r][b]
+    }
+    /// The class weights `b^n` as exact integers (`b = 0..=8`, zero above `z`) for a whole
+    /// `n >= 1` with `z^n` at most [`MAX_INT_WEIGHT`]; `None` otherwise. They are proportional to
+    /// `(b/z)^n` (Eq. 4) with the factor `z^n`, so the exact sampler draws the class and the
+    /// site with one integer draw and no rounding.
+    #[inline]
+    pub fn int_weights(&self) -> Option<&[u64; 9]> {
+        self.int_w.as_ref()
     }
     /// `(r/b)^n`, the reciprocal of [`Sticking::ratio`], where that ratio is a normal float;
     /// 0 where it is subnormal or zero (divide by the ratio there).
@@ -256,6 +284,27 @@ mod tests {
         assert!(s.ratio(6, 5) >= 0.0 && s.ratio(6, 5) < 1e-300);
         let s = Sticking::new(50.0, 6).unwrap();
         assert!((s.ratio(3, 2) - (2.0f64 / 3.0).powf(50.0)).abs() < 1e-20);
+    }
+
+    #[test]
+    fn eq4_integer_weights_are_the_powers_where_they_fit() {
+        // n = 2 on the hexagonal lattice: b^2; proportional to (b/6)^2 with the factor 6^2
+        let r = Sticking::new(2.0, 6).unwrap();
+        let w = r.int_weights().unwrap();
+        assert_eq!(w[..7], [0, 1, 4, 9, 16, 25, 36]);
+        for b in 1..=6 {
+            assert!((w[b] as f64 / w[6] as f64 - r.p(b)).abs() < 1e-15);
+        }
+        // a fractional n, n = 0 (the flat surface), and z^n past 2^35 keep the floats
+        assert!(Sticking::new(1.7, 6).unwrap().int_weights().is_none());
+        assert!(Sticking::new(0.0, 6).unwrap().int_weights().is_none());
+        assert!(Sticking::new(13.0, 6).unwrap().int_weights().is_some());
+        assert!(Sticking::new(14.0, 6).unwrap().int_weights().is_none());
+        assert!(Sticking::new(50.0, 6).unwrap().int_weights().is_none());
+        assert_eq!(
+            Sticking::new(11.0, 8).unwrap().int_weights().unwrap()[8],
+            1 << 33
+        );
     }
 
     #[test]

@@ -419,6 +419,11 @@ impl Growth {
             self.time = limit;
             return Outcome::Stalled;
         }
+        if self.tree.is_none()
+            && let Some(iw) = self.rule.int_weights().copied()
+        {
+            return self.step_exact_int::<Z>(rng, limit, s, top, &iw);
+        }
         // Weights relative to the top class: w_b = m_b (b/top)^n, w_top = m_top >= its
         // smallest v > 0, so the sum never underflows to 0.
         let mut w = [0.0f64; 9];
@@ -506,6 +511,71 @@ impl Growth {
                 t.select_in(r.start, r.end, u).unwrap_or(r.start)
             }
         };
+        let cell = self.surface.site(slot) as usize;
+        self.occupy_unchecked(cell);
+        self.accepted += 1;
+        Outcome::Accepted(cell)
+    }
+
+    /// [`Growth::step_exact`] with whole-number class weights (`v` uniform, `n` a whole number
+    /// with `z^n` at most [`crate::growth::rule::MAX_INT_WEIGHT`]: [`Sticking::int_weights`]):
+    /// the class masses `m_b b^n` are exact integers, so the total, the class and the site
+    /// within it come from one uniform integer draw below the total, without rounding, and
+    /// the sum of the masses is a chain of integer additions (one cycle each) where the
+    /// floating-point weights' is a chain of additions of four cycles, on the path from one
+    /// event's class counts to the next event's site. The acceptance probability of a pick,
+    /// `P = sum_b m_b (b/z)^n / S`, and the wait are as in the general path.
+    #[inline(always)]
+    fn step_exact_int<const Z: usize>(
+        &mut self,
+        rng: &mut Stream,
+        limit: f64,
+        s: usize,
+        top: usize,
+        iw: &[u64; 9],
+    ) -> Outcome {
+        let mut w = [0u64; 9];
+        let mut total = 0u64;
+        for b in 1..=Z {
+            w[b] = self.surface.class_len(b) as u64 * iw[b];
+            total += w[b];
+        }
+        let at = match self.pending.take() {
+            Some(at) => at,
+            None => {
+                // P = total / (z^n S); z^n = int_w[z], exact in f64 (at most 2^35)
+                let p = total as f64 / (iw[Z] as f64 * s as f64);
+                let wait = if p >= 1.0 {
+                    0.0
+                } else {
+                    rejected_picks_linear(p, rng.sample(Exp1))
+                };
+                self.acceptance_time(wait, None, limit)
+            }
+        };
+        if let Some(stop) = self.move_clock_to(at, limit) {
+            return stop;
+        }
+        // one uniform integer in [0, total): the class by its mass, the slot by the remainder
+        let mut r = rng.random_range(0..total);
+        let mut class = top;
+        for b in (1..=top).rev() {
+            if w[b] > 0 {
+                class = b;
+                if r < w[b] {
+                    break;
+                }
+                r -= w[b];
+            }
+        }
+        let range = self.surface.class_range(class);
+        let k = if r <= u64::from(u32::MAX) && iw[class] <= u64::from(u32::MAX) {
+            // (a 32-bit division is the shorter one)
+            u64::from(r as u32 / iw[class] as u32)
+        } else {
+            r / iw[class]
+        } as usize;
+        let slot = range.start + k.min(range.end - range.start - 1);
         let cell = self.surface.site(slot) as usize;
         self.occupy_unchecked(cell);
         self.accepted += 1;
