@@ -520,3 +520,28 @@ fn tiles_keep_the_frame_of_their_run() {
     };
     assert!(check_pool(&[flow, turned]).is_ok());
 }
+
+#[test]
+fn the_tiles_digest_follows_their_values_not_their_names() {
+    let (close, _) = pool();
+    let d = cellsurf::tile::tileset::digest(close);
+    assert_eq!(d.len(), 64, "{d}");
+    assert!(d.bytes().all(|b| b.is_ascii_hexdigit()), "{d}");
+    // the same values under other labels: the same digest
+    let mut renamed = close.clone();
+    for t in &mut renamed {
+        t.label = "other.nc, step 1".into();
+    }
+    assert_eq!(cellsurf::tile::tileset::digest(&renamed), d);
+    // one elevation changed by one unit in the last place, one volume value, or the order
+    let mut bumped = close.clone();
+    bumped[1].elevation[7] = f32::from_bits(bumped[1].elevation[7].to_bits() + 1);
+    assert_ne!(cellsurf::tile::tileset::digest(&bumped), d);
+    let mut vol = close.clone();
+    let v = vol[2].volume.as_mut().unwrap();
+    *v.data.iter_mut().find(|x| x.is_finite()).unwrap() += 1.0;
+    assert_ne!(cellsurf::tile::tileset::digest(&vol), d);
+    let mut swapped = close.clone();
+    swapped.swap(0, 1);
+    assert_ne!(cellsurf::tile::tileset::digest(&swapped), d);
+}

@@ -113,6 +113,15 @@ fn assert_same_store(a: &Path, b: &Path) {
     }
 }
 
+/// Asserts that the run failed, saying each of `needles` on stderr.
+fn refused(o: &std::process::Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "accepted: {err}");
+    for n in needles {
+        assert!(err.contains(n), "no '{n}' in: {err}");
+    }
+}
+
 #[test]
 fn four_parts_at_once_equal_one_process_byte_for_byte() {
     let one = tmp("one.zarr");
@@ -365,4 +374,125 @@ fn raytrace_reads_only_the_chunks_the_section_crosses() {
     assert!(from_zarr["insonified_fraction"].as_f64().unwrap() > 0.0);
     std::fs::remove_dir_all(&store).unwrap();
     std::fs::remove_file(&nc).unwrap();
+}
+
+/// Small ripple runs: 32 x 16 bins, a few hundred milliseconds.
+const SMALL_RUN: [&str; 8] = [
+    "--size",
+    "32x16",
+    "--layers",
+    "10",
+    "--steps",
+    "200",
+    "--activity",
+    "0.004",
+];
+
+/// A ripple file of [`SMALL_RUN`], remade under the same name.
+fn ripple_file(out: &Path, seed: &str) {
+    let out = out.display().to_string();
+    let mut a = vec!["ripple"];
+    a.extend(SMALL_RUN);
+    a.extend(["--seed", seed, "--quiet", "--out", &out]);
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn parts_from_other_tile_contents_under_one_name_are_refused() {
+    let t = tmp("t.nc");
+    let store = tmp("mixed.zarr");
+    let (ts, ss) = (t.display().to_string(), store.display().to_string());
+    let tile = |extra: &[&str]| {
+        let mut a = vec![
+            "tile",
+            "--tile",
+            &ts,
+            "--mosaic",
+            "4x4",
+            "--chunk-tiles",
+            "2x2",
+        ];
+        a.extend_from_slice(extra);
+        cellsurf(&a)
+    };
+    ripple_file(&t, "1");
+    let o = tile(&["--out", &ss, "--part", "0/2", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // the tile file remade with other contents: part 1 and a whole re-run are refused, naming
+    // the tiles' digest, and write nothing
+    ripple_file(&t, "99");
+    for extra in [&["--part", "1/2"][..], &[][..]] {
+        let mut a = vec!["--out", ss.as_str(), "--quiet"];
+        a.extend_from_slice(extra);
+        refused(&tile(&a), &["param_tiles_sha256", "other values"]);
+    }
+    let (ok, v) = check(&store, &[]);
+    // (part 1's two elevation chunks and its y coordinate chunk)
+    assert!(!ok && v["missing"] == 3, "{v}");
+    // --check given the tiles: not made from them
+    refused(
+        &tile(&["--check", &ss]),
+        &["not made from these tiles", "param_tiles_sha256"],
+    );
+    // the first contents back: the store is finished, and --check says complete, also with
+    // the tiles
+    ripple_file(&t, "1");
+    let o = tile(&["--out", &ss, "--part", "1/2", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (ok, v) = check(&store, &[]);
+    assert!(ok, "{v}");
+    assert_eq!(v["tiles_sha256"].as_str().map(str::len), Some(64), "{v}");
+    let o = tile(&["--check", &ss]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // a store that records its tiles by name only (an earlier cellsurf's) cannot be called
+    // complete: its parts may have read different contents
+    let root = store.join("zarr.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&root).unwrap()).unwrap();
+    doc["attributes"]
+        .as_object_mut()
+        .unwrap()
+        .remove("param_tiles_sha256");
+    std::fs::write(&root, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let (ok, v) = check(&store, &[]);
+    assert!(!ok, "{v}");
+    assert!(
+        v["unverified"]
+            .as_str()
+            .unwrap_or("")
+            .contains("file name and step only"),
+        "{v}"
+    );
+    refused(
+        &cellsurf(&["tile", "--check", &ss]),
+        &["cannot be called complete", "param_tiles_sha256"],
+    );
+    std::fs::remove_dir_all(&store).unwrap();
+    std::fs::remove_file(&t).unwrap();
+}
+
+#[test]
+fn check_given_the_generating_parameters_verifies_the_store() {
+    // generated tiles are identified by their parameters and seeds, and by their values: the
+    // same --generate parameters match the store, other steps do not (named by the first
+    // parameters that differ)
+    let store = tmp("gen.zarr");
+    let a = args(&store);
+    let o = cellsurf(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let with_check = |steps: &str| {
+        let mut c: Vec<String> = a[..a.len() - 2].to_vec();
+        let i = c.iter().position(|s| s == "--steps").unwrap();
+        c[i + 1] = steps.into();
+        c.extend(["--check".into(), store.display().to_string()]);
+        cellsurf(&c.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let o = with_check("300");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    refused(
+        &with_check("310"),
+        &["not made from these tiles", "attributes.param_ripple_s"],
+    );
+    std::fs::remove_dir_all(&store).unwrap();
 }

@@ -21,7 +21,9 @@ use super::conv::{self, Format, Outputs, Size};
 use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
-use cellsurf::tile::zarr::{Part, ZarrLayout, check_zarr, init_zarr, write_zarr};
+use cellsurf::tile::zarr::{
+    Part, TILES_DIGEST, ZarrLayout, check_zarr, init_zarr, verify_zarr, write_zarr,
+};
 use cellsurf::tile::{
     ANGLE_OF_REPOSE_DEG, Choose, DuneParams, GenerateOptions, Mosaic, Relief, RippledDunes,
     RowSource, SeamMeter, SeamStats, StreamFormat, StreamSpec, Tile,
@@ -177,6 +179,9 @@ pub struct Args {
 #[derive(Serialize)]
 struct Recorded {
     tiles: String,
+    /// The SHA-256 digest of the tiles' values ([`cellsurf::tile::tileset::digest`]): what
+    /// identifies a store's tiles, whatever their files are called.
+    tiles_sha256: String,
     tile_nx: usize,
     tile_ny: usize,
     bin_size: f64,
@@ -608,8 +613,24 @@ pub fn run(a: Args) -> Result<()> {
         Some(p) => Some(p.parse()?),
         None => None,
     };
+    // --check STORE alone checks the chunks; with the tiles (--tile or --generate) and the
+    // other parameters of the run that wrote the store, also that it was made from them
     if let Some(store) = &a.check {
-        return check(store, part, a.json);
+        if a.tile.is_empty() && !a.generate {
+            return check(store, part, a.json);
+        }
+        if a.init || a.dry_run {
+            bail!(
+                "{} and --check both given: expected one of them",
+                if a.init { "--init" } else { "--dry-run" }
+            );
+        }
+        if !store.is_dir() {
+            bail!(
+                "--check {}: not a folder (a Zarr store is a folder)",
+                store.display()
+            );
+        }
     }
     let choose: Choose = a.choose.parse()?;
     let outs = match &a.format {
@@ -639,7 +660,7 @@ pub fn run(a: Args) -> Result<()> {
     if given > 1 {
         bail!("--out: one mosaic per run (.nc, .npy or .zarr)");
     }
-    if out.is_none() && !a.dry_run && a.volume.is_some() {
+    if out.is_none() && a.check.is_none() && !a.dry_run && a.volume.is_some() {
         let flag = conv::typed_flag("volume").unwrap_or_else(|| "--volume".into());
         conv::note(format_args!(
             "warning: {flag} has no effect without --out: it chooses the field the mosaic file holds, and this run writes none (it measures the seams only)"
@@ -665,7 +686,7 @@ pub fn run(a: Args) -> Result<()> {
             }
         }
     }
-    if !zarr && (part.is_some() || a.init || a.chunk_tiles.is_some()) {
+    if !zarr && a.check.is_none() && (part.is_some() || a.init || a.chunk_tiles.is_some()) {
         bail!(
             "{} needs --out STORE.zarr (a Zarr store; NetCDF and npy files are written by one process)",
             if a.init {
@@ -816,6 +837,7 @@ pub fn run(a: Args) -> Result<()> {
         bail!("{flag} = {mx}x{my} is out of range: expected at most 2^28 = {MAX_TILES} tiles");
     }
     let labels: Vec<String> = tiles.iter().map(|t| t.label.clone()).collect();
+    let tiles_digest = cellsurf::tile::tileset::digest(&tiles);
     // The mosaic is laid in the tiles' frame: its x axis is theirs (east for grid-frame runs,
     // the flow for flow-frame runs); --current-angle is from east, the dunes' current is taken
     // in the mosaic's frame.
@@ -905,6 +927,7 @@ pub fn run(a: Args) -> Result<()> {
     let (w, h) = (src.width(), src.height());
     let recorded = Recorded {
         tiles: labels.join("; "),
+        tiles_sha256: tiles_digest,
         tile_nx: nx,
         tile_ny: ny,
         bin_size: dx,
@@ -946,7 +969,7 @@ pub fn run(a: Args) -> Result<()> {
         w as f64 * dx,
         h as f64 * dx,
     );
-    if !quiet {
+    if !quiet && a.check.is_none() {
         match &out {
             Some(out) => super::conv::err_line(format_args!(
                 "tile: {size_line}; writing about {} to {}",
@@ -1036,6 +1059,17 @@ pub fn run(a: Args) -> Result<()> {
         )?;
         Ok(serde_json::to_string(&v)?)
     };
+    if let Some(store) = &a.check {
+        verify_zarr(store, src, &spec, chunk_tiles)
+            .map_err(tiles_hint)
+            .with_context(|| {
+                format!(
+                    "--check {}: not made from these tiles and parameters",
+                    store.display()
+                )
+            })?;
+        return check(store, part, a.json);
+    }
     if a.dry_run {
         if a.json {
             outln!("{}", envelope(summary(None, 0, 0.0))?)?;
@@ -1238,6 +1272,9 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
             super::conv::err_line(format_args!("parts to re-run (of {}): {r:?}", p.count));
         }
     }
+    if let Some(why) = &c.unverified {
+        bail!("{}: cannot be called complete: {why}", store.display());
+    }
     if !c.complete {
         bail!(
             "{}: incomplete: {} missing and {} damaged chunks; re-run the parts that own them",
@@ -1261,6 +1298,19 @@ struct StoreOpts {
     quiet: bool,
 }
 
+/// A store's metadata that differs in the tiles' digest: said in words (the tiles' names and
+/// steps may be the same, their values are not).
+fn tiles_hint(e: cellsurf::tile::TileError) -> anyhow::Error {
+    let text = e.to_string();
+    if text.contains(&format!("attributes.param_{TILES_DIGEST}")) {
+        anyhow::anyhow!(
+            "{text}\n(the tiles hold other values than those the store was made from, whatever their file names and steps: a --tile file remade since, or --generate runs that computed other values; every part of a store must read the same tiles)"
+        )
+    } else {
+        e.into()
+    }
+}
+
 /// Writes a Zarr store (all of it, one part, or its metadata with `init`).
 fn write_store(
     out: &std::path::Path,
@@ -1273,7 +1323,7 @@ fn write_store(
     let (json, quiet) = (o.json, o.quiet);
     let t0 = Instant::now();
     if o.init {
-        let (_, layout) = init_zarr(out, src, spec, o.tiles)?;
+        let (_, layout) = init_zarr(out, src, spec, o.tiles).map_err(tiles_hint)?;
         let el = t0.elapsed().as_secs_f64();
         if json {
             conv::wrote(out);
@@ -1312,7 +1362,8 @@ fn write_store(
     );
     let rep = write_zarr(out, src, spec, o.tiles, part, |d| {
         bar.set_position(d as u64)
-    })?;
+    })
+    .map_err(tiles_hint)?;
     bar.finish_and_clear();
     let el = rep.elapsed_s;
     if json {

@@ -270,28 +270,55 @@ fn build(
 }
 
 /// Writes the metadata document `rel` of the store at `root` when absent; when present,
-/// checks that it says the same (the JSON values compared, whatever the formatting).
-fn ensure_document(root: &Path, rel: &str, doc: &Value) -> Result<(), ZarrError> {
+/// checks that it says the same (the JSON values compared, whatever the formatting). With
+/// `create` false an absent document is a mismatch too (nothing is written).
+///
+/// The document is created by a hard link of a finished temporary file, which fails when
+/// another writer created it first: of writers that start at once with other metadata, exactly
+/// one wins and the others are refused (a rename would let each replace the other's document
+/// and go on writing chunks of other parameters into one store). A file system without hard
+/// links falls back to the rename.
+fn ensure_document(root: &Path, rel: &str, doc: &Value, create: bool) -> Result<(), ZarrError> {
     let path = root.join(rel);
-    match std::fs::read(&path) {
-        Ok(bytes) => {
-            let old: Value = serde_json::from_slice(&bytes).map_err(|e| io(path.display(), e))?;
-            if &old != doc {
-                return Err(ZarrError::Mismatch {
-                    path: path.display().to_string(),
-                    reason: describe_difference(&old, doc),
-                });
-            }
-            Ok(())
+    let compare = |bytes: &[u8]| {
+        let old: Value = serde_json::from_slice(bytes).map_err(|e| io(path.display(), e))?;
+        if &old != doc {
+            return Err(ZarrError::Mismatch {
+                path: path.display().to_string(),
+                reason: describe_difference(&old, doc),
+            });
         }
+        Ok(())
+    };
+    match std::fs::read(&path) {
+        Ok(bytes) => compare(&bytes),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && !create => Err(ZarrError::Mismatch {
+            path: path.display().to_string(),
+            reason: format!("no {rel}"),
+        }),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             if let Some(d) = path.parent() {
                 std::fs::create_dir_all(d).map_err(|e| io(d.display(), e))?;
             }
             let text = serde_json::to_vec_pretty(doc).map_err(|e| io(path.display(), e))?;
-            let tmp = crate::engine::io::TempFile::new(&path);
+            // (a temporary of its own, `.zarr.json.N.tmp-PID`, also among this process's
+            // threads)
+            static N: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+            let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let name = path
+                .file_name()
+                .map_or("zarr.json".into(), |f| f.to_string_lossy());
+            let tmp = crate::engine::io::TempFile::new(&path.with_file_name(format!("{name}.{n}")));
             std::fs::write(tmp.path(), &text).map_err(|e| io(path.display(), e))?;
-            tmp.commit_now(&path).map_err(|e| io(path.display(), e))
+            match std::fs::hard_link(tmp.path(), &path) {
+                // (the temporary name is removed when `tmp` is dropped)
+                Ok(()) => Ok(()),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let bytes = std::fs::read(&path).map_err(|e| io(path.display(), e))?;
+                    compare(&bytes)
+                }
+                Err(_) => tmp.commit_now(&path).map_err(|e| io(path.display(), e)),
+            }
         }
         Err(e) => Err(io(path.display(), e)),
     }
@@ -338,6 +365,30 @@ impl Store {
         attrs: Map<String, Value>,
         arrays: Vec<ArraySpec>,
     ) -> Result<Store, ZarrError> {
+        Store::with_metadata(root, attrs, arrays, true)
+    }
+
+    /// Checks, writing nothing, that the existing store at `root` has the metadata that
+    /// [`Store::create`] would give it: the group attributes `attrs` and `arrays`. Errors: a
+    /// metadata document that differs or is absent ([`ZarrError::Mismatch`], naming what
+    /// differs), or I/O.
+    pub fn matches(
+        root: &Path,
+        attrs: Map<String, Value>,
+        arrays: Vec<ArraySpec>,
+    ) -> Result<(), ZarrError> {
+        if !root.join("zarr.json").is_file() {
+            return Err(io(root.display(), "not a Zarr v3 store (no zarr.json)"));
+        }
+        Store::with_metadata(root, attrs, arrays, false).map(|_| ())
+    }
+
+    fn with_metadata(
+        root: &Path,
+        attrs: Map<String, Value>,
+        arrays: Vec<ArraySpec>,
+        create: bool,
+    ) -> Result<Store, ZarrError> {
         let storage = Arc::new(AtomicFsStore::new(root)?);
         let mut built = Vec::new();
         let mut consolidated = Map::new();
@@ -363,11 +414,20 @@ impl Store {
                 }),
             );
         }
-        // the arrays first, then the group: a store whose root document exists is complete
-        for (name, meta) in &consolidated {
-            ensure_document(root, &format!("{name}/zarr.json"), meta)?;
+        if create {
+            // the arrays first, then the group: a store whose root document exists is complete
+            for (name, meta) in &consolidated {
+                ensure_document(root, &format!("{name}/zarr.json"), meta, true)?;
+            }
+            ensure_document(root, "zarr.json", &gmeta, true)?;
+        } else {
+            // the group first: it holds the attributes (the parameters), and every array's
+            // metadata besides
+            ensure_document(root, "zarr.json", &gmeta, false)?;
+            for (name, meta) in &consolidated {
+                ensure_document(root, &format!("{name}/zarr.json"), meta, false)?;
+            }
         }
-        ensure_document(root, "zarr.json", &gmeta)?;
         Ok(Store {
             root: root.to_path_buf(),
             storage,
@@ -661,6 +721,43 @@ mod tests {
             dtype: Dtype::F32,
             attrs: attrs(&[("units", "m")]),
         }
+    }
+
+    #[test]
+    fn of_writers_starting_at_once_with_other_metadata_exactly_one_wins() {
+        // each thread creates the store with its own title, all released at once: whoever
+        // creates the root document first wins, every other one is refused (none replaces it)
+        let d = dir("race").join("s.zarr");
+        let n = 8;
+        let gate = Arc::new(std::sync::Barrier::new(n));
+        let handles: Vec<_> = (0..n)
+            .map(|i| {
+                let (d, gate) = (d.clone(), gate.clone());
+                std::thread::spawn(move || {
+                    gate.wait();
+                    Store::create(&d, attrs(&[("title", &format!("t{i}"))]), vec![spec()])
+                        .map(|_| i)
+                })
+            })
+            .collect();
+        let results: Vec<_> = handles.into_iter().map(|h| h.join().unwrap()).collect();
+        let won: Vec<usize> = results.iter().filter_map(|r| r.clone().ok()).collect();
+        assert_eq!(won.len(), 1, "{results:?}");
+        for e in results.iter().filter_map(|r| r.clone().err()) {
+            assert!(matches!(e, ZarrError::Mismatch { .. }), "{e}");
+        }
+        let o = Store::open(&d).unwrap();
+        assert_eq!(o.attributes().unwrap()["title"], format!("t{}", won[0]));
+        // checked without writing: the same metadata matches, other metadata is named
+        Store::matches(
+            &d,
+            attrs(&[("title", &format!("t{}", won[0]))]),
+            vec![spec()],
+        )
+        .unwrap();
+        let e = Store::matches(&d, attrs(&[("title", "x")]), vec![spec()]).unwrap_err();
+        assert!(e.to_string().contains("attributes.title"), "{e}");
+        std::fs::remove_dir_all(d.parent().unwrap()).unwrap();
     }
 
     #[test]

@@ -99,6 +99,10 @@ pub enum TileError {
     /// The ripple model or a ripple file failed.
     #[error("ripple: {0}")]
     Ripple(#[from] crate::ripple::RippleError),
+    /// A store checked, not written, is not what the run would write (what differs) or cannot
+    /// be read.
+    #[error("{0}")]
+    Store(String),
     /// Writing an output failed.
     #[error("writing {path}: {reason}")]
     Output {

@@ -183,6 +183,38 @@ pub fn tiles_from_run(
     Ok(tiles)
 }
 
+/// The SHA-256 digest (64 hexadecimal digits) of the values of `tiles`, in order: each tile's
+/// size, bin size, layer thickness, current and x-axis directions, elevations and volume field
+/// (its name, levels and values), as little-endian bytes; not the labels. Pools with equal
+/// digests lay equal mosaics; a tile file remade with other contents under the same name, or a
+/// generated tile computed otherwise, changes it. It identifies the tiles of a Zarr store
+/// written in parts ([`crate::tile::zarr::TILES_DIGEST`]).
+pub fn digest(tiles: &[Tile]) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    h.update(b"cellsurf tiles v1");
+    h.update((tiles.len() as u64).to_le_bytes());
+    for t in tiles {
+        h.update((t.nx as u64).to_le_bytes());
+        h.update((t.ny as u64).to_le_bytes());
+        for v in [t.bin_size, t.layer_thickness, t.current_angle, t.x_axis_deg] {
+            h.update(v.to_le_bytes());
+        }
+        let bytes = |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
+        h.update(bytes(&t.elevation));
+        match &t.volume {
+            None => h.update([0u8]),
+            Some(v) => {
+                h.update([1u8]);
+                h.update(v.field.name().as_bytes());
+                h.update((v.nz as u64).to_le_bytes());
+                h.update(bytes(&v.data));
+            }
+        }
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// Checks that the tiles of a pool can share a mosaic: at least one, each valid, all with the
 /// size, bin size and (when they carry volumes) layer thickness and field of the first.
 pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {

@@ -13,7 +13,8 @@
 //!   atomically; chunks already present and sound are kept, so re-running a killed part
 //!   finishes the store. [`init_zarr`] writes the metadata alone (`--init`).
 //! - [`check_zarr`]: the missing and damaged chunks of a store and the temporary files
-//!   killed writers left ([`ZarrCheck`]).
+//!   killed writers left ([`ZarrCheck`]); [`verify_zarr`]: whether a store was made with given
+//!   parameters and tiles (their digest, [`TILES_DIGEST`]).
 //!
 //! The store holds `elevation(y, x)` (float32, m), the coordinates `x(x)`, `y(y)` (float64, m,
 //! bin centres), and with a volume field `FIELD(y, z, x)` and `z(z)`; CF attributes on every
@@ -146,6 +147,11 @@ pub struct ZarrReport {
     /// Seconds.
     pub elapsed_s: f64,
 }
+
+/// The parameter (`param_tiles_sha256` in a store) that records the SHA-256 digest of the
+/// tiles' values ([`crate::tile::tileset::digest`]); a tile store without it cannot tell
+/// whether its parts were written from the same tiles ([`check_zarr`]).
+pub const TILES_DIGEST: &str = "tiles_sha256";
 
 fn zerr(e: ZarrError) -> TileError {
     match e {
@@ -294,6 +300,35 @@ pub fn init_zarr(
     )
     .map_err(zerr)?;
     Ok((store, layout))
+}
+
+/// Checks, writing nothing, that the store at `path` has the metadata [`init_zarr`] would
+/// give it for `src` and `spec` (its parameters, the tiles' digest among them, and its
+/// arrays); `tiles` as [`init_zarr`], by default the store's own `chunk_tiles`. Errors name
+/// what differs.
+pub fn verify_zarr(
+    path: &Path,
+    src: &dyn RowSource,
+    spec: &StreamSpec,
+    tiles: Option<(usize, usize)>,
+) -> Result<ZarrLayout, TileError> {
+    let nz = levels_of(src, spec)?;
+    let recorded = || -> Option<(usize, usize)> {
+        let a = Store::open(path).ok()?.attributes().ok()?;
+        let t = a.get("chunk_tiles")?.as_array()?;
+        Some((t.first()?.as_u64()? as usize, t.get(1)?.as_u64()? as usize))
+    };
+    let layout = match tiles.or_else(recorded) {
+        Some(t) => ZarrLayout::with_tiles(src, nz, t)?,
+        None => ZarrLayout::new(src, nz),
+    };
+    Store::matches(
+        path,
+        group_attrs(src, spec, &layout),
+        array_specs(spec, &layout),
+    )
+    .map_err(|e| TileError::Store(e.to_string()))?;
+    Ok(layout)
 }
 
 /// Whether chunk `idx` of every array in `names` is complete.
@@ -469,8 +504,16 @@ pub struct ZarrCheck {
     pub arrays: Vec<ArrayCheck>,
     /// Temporary files left by killed writers.
     pub stale_temporaries: Vec<PathBuf>,
-    /// Every chunk of every array present and sound.
+    /// Every chunk of every array present and sound, and (for a tile store) the tiles it was
+    /// made from identified ([`ZarrCheck::unverified`] empty).
     pub complete: bool,
+    /// The SHA-256 digest of the tiles' values the store was made from ([`TILES_DIGEST`]),
+    /// where recorded.
+    pub tiles_sha256: Option<String>,
+    /// Why the chunks cannot be known to come from one set of tiles: a tile store (it records
+    /// `param_tiles`) without the tiles' digest, made by a cellsurf that recorded only the tile
+    /// files' names and steps, whose parts may have read different contents under one name.
+    pub unverified: Option<String>,
     /// Chunks of the surface along x and y.
     pub grid: (usize, usize),
 }
@@ -558,14 +601,27 @@ pub fn check_zarr(path: &Path) -> Result<ZarrCheck, TileError> {
         })
         .unwrap_or((1, 1));
     let stale = store.stale_temporaries();
-    let complete = arrays
-        .iter()
-        .all(|a| a.missing.is_empty() && a.damaged.is_empty());
+    let at = store.attributes().map_err(zerr)?;
+    let tiles_sha256 = at
+        .get(&format!("param_{TILES_DIGEST}"))
+        .and_then(Value::as_str)
+        .map(str::to_string);
+    let unverified = (at.contains_key("param_tiles") && tiles_sha256.is_none()).then(|| {
+        format!(
+            "the store records its tiles by file name and step only (param_tiles), not their values (param_{TILES_DIGEST}): parts written from different contents under one file name cannot be told apart; write it again"
+        )
+    });
+    let complete = unverified.is_none()
+        && arrays
+            .iter()
+            .all(|a| a.missing.is_empty() && a.damaged.is_empty());
     Ok(ZarrCheck {
         store: path.to_path_buf(),
         arrays,
         stale_temporaries: stale,
         complete,
+        tiles_sha256,
+        unverified,
         grid,
     })
 }
