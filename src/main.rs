@@ -101,11 +101,9 @@ fn parse() -> Cli {
 }
 
 fn main() -> ExitCode {
-    // Ctrl-C or SIGTERM: no temporary output file is left behind.
-    let _ = ctrlc::set_handler(|| {
-        cellsurf::engine::io::remove_live_temporaries();
-        std::process::exit(130);
-    });
+    // Ctrl-C or SIGTERM: no temporary output file is left behind (and an output written in
+    // place says what was left).
+    let _ = ctrlc::set_handler(|| cmd::conv::interrupted());
     let cli = parse();
     // Every output of a run is moved into place only once the whole run succeeded (the page
     // server writes no output of its own).

@@ -113,6 +113,29 @@ fn assert_same_store(a: &Path, b: &Path) {
     }
 }
 
+/// Chunk files (not temporaries) under `dir/elevation/c`.
+fn chunks_in(dir: &Path) -> usize {
+    std::fs::read_dir(dir.join("elevation/c")).map_or(0, |rd| {
+        rd.flatten()
+            .map(|e| {
+                std::fs::read_dir(e.path()).map_or(0, |r| {
+                    r.flatten()
+                        .filter(|f| !f.file_name().to_string_lossy().starts_with('.'))
+                        .count()
+                })
+            })
+            .sum()
+    })
+}
+
+/// Waits until `ready()` (at most a minute).
+fn wait_for(ready: impl Fn() -> bool) {
+    let t0 = Instant::now();
+    while !ready() && t0.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
 /// Asserts that the run failed, saying each of `needles` on stderr.
 fn refused(o: &std::process::Output, needles: &[&str]) {
     let err = String::from_utf8_lossy(&o.stderr);
@@ -186,27 +209,10 @@ fn a_killed_part_is_reported_and_a_rerun_repairs_it() {
     assert_eq!(v["missing"], 100 + 10 + 10, "{v}");
     // part 0 of 2 runs and is killed once some of its chunks are there
     let mut child = spawn(&store, &["--part", "0/2"]);
-    let c = store.join("elevation/c");
-    let t0 = Instant::now();
-    let count = |d: &Path| {
-        std::fs::read_dir(d).map_or(0, |rd| {
-            rd.flatten()
-                .map(|e| {
-                    std::fs::read_dir(e.path()).map_or(0, |r| {
-                        r.flatten()
-                            .filter(|f| !f.file_name().to_string_lossy().starts_with('.'))
-                            .count()
-                    })
-                })
-                .sum::<usize>()
-        })
-    };
-    while count(&c) < 5 && t0.elapsed() < Duration::from_secs(60) {
-        std::thread::sleep(Duration::from_millis(2));
-    }
+    wait_for(|| chunks_in(&store) >= 5);
     child.kill().unwrap();
     child.wait().unwrap();
-    let done = count(&c);
+    let done = chunks_in(&store);
     assert!(
         (5..50).contains(&done),
         "killed with {done} of part 0's 50 chunks written"
@@ -495,4 +501,79 @@ fn check_given_the_generating_parameters_verifies_the_store() {
         &["not made from these tiles", "attributes.param_ripple_s"],
     );
     std::fs::remove_dir_all(&store).unwrap();
+}
+
+/// Sends SIGINT (Ctrl-C) to `child`.
+#[cfg(unix)]
+fn interrupt(child: &std::process::Child) {
+    let s = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(s.success());
+}
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_leaves_no_partial_output_under_its_name() {
+    let dir = tmp("ctrl-c");
+    std::fs::create_dir_all(&dir).unwrap();
+    let leftovers = || {
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect::<Vec<_>>()
+    };
+    // a new store without --part: written into a temporary folder, removed on Ctrl-C
+    let store = dir.join("k.zarr");
+    let child = spawn(&store, &[]);
+    let hidden = dir.join(format!(".k.zarr.tmp-{}", child.id()));
+    wait_for(|| chunks_in(&hidden) >= 3);
+    assert!(chunks_in(&hidden) >= 3, "no chunks appeared in {hidden:?}");
+    assert!(
+        !store.exists(),
+        "the store is not under its name while written"
+    );
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(!err.contains("error"), "{err}");
+    assert_eq!(leftovers(), Vec::<String>::new(), "{err}");
+    // the same for a NetCDF file
+    let nc = dir.join("k.nc");
+    let mut a = args(&nc);
+    a.retain(|s| s != "--chunk-tiles" && s != "4x8");
+    let child = Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .args(&a)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let partial = dir.join(format!(".k.nc.tmp-{}", child.id()));
+    wait_for(|| std::fs::metadata(&partial).is_ok_and(|m| m.len() > 100_000));
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130));
+    assert_eq!(leftovers(), Vec::<String>::new());
+    // a store that exists (here its metadata alone) is finished in place: Ctrl-C leaves its
+    // whole chunks and says so, with how to finish and check it; a re-run finishes it
+    assert!(run(&store, &["--init"]).status.success());
+    let child = spawn(&store, &[]);
+    wait_for(|| chunks_in(&store) >= 3);
+    interrupt(&child);
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("interrupted:")
+            && err.contains("keeps the chunks")
+            && err.contains("tile --check"),
+        "{err}"
+    );
+    let (ok, v) = check(&store, &[]);
+    assert!(!ok && v["damaged"] == 0, "{v}");
+    assert!(run(&store, &[]).status.success());
+    assert!(check(&store, &[]).0);
+    std::fs::remove_dir_all(&dir).unwrap();
 }

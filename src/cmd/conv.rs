@@ -36,6 +36,8 @@ struct Invocation {
 static INVOCATION: OnceLock<Invocation> = OnceLock::new();
 static QUIET: AtomicBool = AtomicBool::new(false);
 static WRITTEN: Mutex<Vec<String>> = Mutex::new(Vec::new());
+/// What to say on stderr if the run is interrupted now ([`say_on_interrupt`]).
+static ON_INTERRUPT: Mutex<Vec<(u64, String)>> = Mutex::new(Vec::new());
 /// Library parameter names that are not the flag's id (e.g. `width` for `--size`).
 static SYNONYMS: Mutex<Vec<(&'static str, &'static str)>> = Mutex::new(Vec::new());
 
@@ -134,6 +136,43 @@ pub fn wrote(path: &Path) {
     if let Ok(mut w) = WRITTEN.lock() {
         w.push(path.display().to_string());
     }
+}
+
+/// Says `msg` on stderr (whatever `--quiet` says) if the run is interrupted (Ctrl-C, SIGTERM)
+/// while the returned guard lives: for an output that an interrupt leaves in place, what was
+/// left and how to finish it.
+pub fn say_on_interrupt(msg: String) -> InterruptNote {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let id = NEXT.fetch_add(1, Ordering::Relaxed);
+    if let Ok(mut n) = ON_INTERRUPT.lock() {
+        n.push((id, msg));
+    }
+    InterruptNote(id)
+}
+
+/// The guard of [`say_on_interrupt`]: dropped, the message is no longer said.
+#[must_use]
+pub struct InterruptNote(u64);
+
+impl Drop for InterruptNote {
+    fn drop(&mut self) {
+        if let Ok(mut n) = ON_INTERRUPT.lock() {
+            n.retain(|(id, _)| *id != self.0);
+        }
+    }
+}
+
+/// On Ctrl-C or SIGTERM: removes the temporary outputs being written
+/// ([`cellsurf::engine::io::remove_live_temporaries`]), says what [`say_on_interrupt`] asked,
+/// and exits with status 130.
+pub fn interrupted() -> ! {
+    cellsurf::engine::io::remove_live_temporaries();
+    if let Ok(n) = ON_INTERRUPT.lock() {
+        for (_, msg) in n.iter() {
+            err_line(format_args!("{msg}"));
+        }
+    }
+    std::process::exit(130);
 }
 
 /// A line of chatter on stderr (not with `--quiet`).
@@ -369,6 +408,11 @@ pub fn parse_u16(s: &str) -> Result<u16, String> {
 /// counts as success; the outputs held back are moved into place on success and removed on
 /// failure, whose message is printed (naming the flag) with exit status 1.
 pub fn finish(result: Result<()>) -> std::process::ExitCode {
+    // An interrupt made the run's writes fail: the handler ([`interrupted`]) ends the process
+    // (status 130) once it has removed the temporaries; no error of this run is reported.
+    while cellsurf::engine::io::interrupted() {
+        std::thread::park();
+    }
     let result = match result {
         Err(e) if is_broken_pipe(&e) => Ok(()),
         r => r,

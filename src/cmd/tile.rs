@@ -23,6 +23,7 @@ use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::zarr::{
     Part, TILES_DIGEST, ZarrLayout, check_zarr, init_zarr, verify_zarr, write_zarr,
+    write_zarr_whole,
 };
 use cellsurf::tile::{
     ANGLE_OF_REPOSE_DEG, Choose, DuneParams, GenerateOptions, Mosaic, Relief, RippledDunes,
@@ -1311,7 +1312,10 @@ fn tiles_hint(e: cellsurf::tile::TileError) -> anyhow::Error {
     }
 }
 
-/// Writes a Zarr store (all of it, one part, or its metadata with `init`).
+/// Writes a Zarr store (all of it, one part, or its metadata with `init`). Without a part, a
+/// new store is written into a temporary folder and moved into place when complete
+/// ([`write_zarr_whole`]); a part, or a run that finishes an existing store, writes in place,
+/// and an interrupt (Ctrl-C) then says on stderr what was left and how to finish it.
 fn write_store(
     out: &std::path::Path,
     src: &dyn RowSource,
@@ -1360,9 +1364,22 @@ fn write_store(
         "zarr chunks",
         quiet,
     );
-    let rep = write_zarr(out, src, spec, o.tiles, part, |d| {
-        bar.set_position(d as u64)
-    })
+    let progress = |d: usize| bar.set_position(d as u64);
+    let in_place = o.part.is_some() || std::fs::symlink_metadata(out).is_ok();
+    let rep = if in_place {
+        let rerun = match o.part {
+            Some(p) => format!("the same command (--part {}/{})", p.index, p.count),
+            None => "the same command".into(),
+        };
+        let _said = conv::say_on_interrupt(format!(
+            "interrupted: {} keeps the chunks written so far, whole (a chunk is renamed into place when complete); re-run {rerun} to finish it (its complete chunks are kept), or `cellsurf tile --check {}` to list what is missing",
+            out.display(),
+            out.display()
+        ));
+        write_zarr(out, src, spec, o.tiles, part, progress)
+    } else {
+        write_zarr_whole(out, src, spec, o.tiles, progress)
+    }
     .map_err(tiles_hint)?;
     bar.finish_and_clear();
     let el = rep.elapsed_s;

@@ -191,10 +191,38 @@ pub fn short(text: &str) -> String {
     }
 }
 
+/// Set once the run is being interrupted ([`remove_live_temporaries`]).
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Whether the run is being interrupted: writers should start nothing more (a Zarr store's
+/// chunk writes then fail, so that its temporary folder can be removed whole).
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
+}
+
 /// Deletes every temporary file (or temporary store folder) being written (for an
-/// interrupted run).
+/// interrupted run), after marking the run as interrupted ([`interrupted`]). A folder that a
+/// writer still in flight refills is removed again, until it has stayed away for 30 ms (at
+/// most half a second).
 pub fn remove_live_temporaries() {
+    INTERRUPTED.store(true, Ordering::SeqCst);
+    let dirs: Vec<PathBuf> = LIVE
+        .lock()
+        .map(|l| l.iter().filter(|p| p.is_dir()).cloned().collect())
+        .unwrap_or_default();
     remove_live_temporaries_where(|_| true);
+    let mut absent = 0;
+    for _ in 0..50 {
+        if dirs.is_empty() || absent >= 3 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        absent += 1;
+        for d in dirs.iter().filter(|d| d.exists()) {
+            absent = 0;
+            let _ = fs::remove_dir_all(d);
+        }
+    }
 }
 
 /// Deletes the temporary files (or store folders) being written whose path satisfies `select`

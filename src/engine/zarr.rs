@@ -187,6 +187,10 @@ impl ListableStorageTraits for AtomicFsStore {
 impl WritableStorageTraits for AtomicFsStore {
     /// Writes `value` to a temporary sibling of the key's file and renames it onto the file.
     fn set(&self, key: &StoreKey, value: Bytes) -> Result<(), StorageError> {
+        // (a run being interrupted writes nothing more: its temporary store is being removed)
+        if crate::engine::io::interrupted() {
+            return Err(StorageError::Other("the run was interrupted".into()));
+        }
         let path = self.key_path(key);
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir)?;

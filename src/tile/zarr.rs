@@ -12,6 +12,7 @@
 //!   computed from the [`RowSource`] spans it covers, compressed (zstd) and written
 //!   atomically; chunks already present and sound are kept, so re-running a killed part
 //!   finishes the store. [`init_zarr`] writes the metadata alone (`--init`).
+//!   [`write_zarr_whole`]: one process's new store, through a temporary folder.
 //! - [`check_zarr`]: the missing and damaged chunks of a store and the temporary files
 //!   killed writers left ([`ZarrCheck`]); [`verify_zarr`]: whether a store was made with given
 //!   parameters and tiles (their digest, [`TILES_DIGEST`]).
@@ -478,6 +479,45 @@ pub fn write_zarr(
         stored_bytes: stored.into_inner(),
         elapsed_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Writes the whole store (every chunk) as one output: a store absent at `path` is written
+/// into a temporary folder beside it (`.NAME.tmp-PID`) and moved into place only once complete
+/// ([`crate::engine::io::publish`]), so that a failed or interrupted run leaves no store under
+/// its name (the `cellsurf` program removes the folder on Ctrl-C); an existing store at `path`
+/// (parts or a run left it) is finished in place, its complete chunks kept ([`write_zarr`]).
+pub fn write_zarr_whole(
+    path: &Path,
+    src: &dyn RowSource,
+    spec: &StreamSpec,
+    tiles: Option<(usize, usize)>,
+    progress: impl Fn(usize) + Sync,
+) -> Result<ZarrReport, TileError> {
+    if std::fs::symlink_metadata(path).is_ok() {
+        return write_zarr(path, src, spec, tiles, Part::WHOLE, progress);
+    }
+    let tmp = crate::engine::io::temp_path(path);
+    let _ = std::fs::remove_dir_all(&tmp);
+    let guard = crate::engine::io::TempFile::new(path);
+    let out = |reason: String| TileError::Output {
+        path: path.display().to_string(),
+        reason,
+    };
+    let result = write_zarr(&tmp, src, spec, tiles, Part::WHOLE, progress).and_then(|rep| {
+        if std::fs::symlink_metadata(path).is_ok() {
+            return Err(out(format!(
+                "appeared while this run wrote the store into {} (another process writing it?); this run's store was discarded",
+                tmp.display()
+            )));
+        }
+        crate::engine::io::publish(&tmp, path).map_err(|e| out(e.to_string()))?;
+        Ok(rep)
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+    drop(guard);
+    result
 }
 
 /// The state of one array of a store.
