@@ -577,3 +577,71 @@ fn ctrl_c_leaves_no_partial_output_under_its_name() {
     assert!(check(&store, &[]).0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_store_reports_the_seams_slopes_and_rate_of_the_streams() {
+    let dir = tmp("measures");
+    std::fs::create_dir_all(&dir).unwrap();
+    let summary = |out: &str, extra: &[&str]| {
+        let p = dir.join(out).display().to_string();
+        let mut a = vec!["tile", "--generate"];
+        a.extend(SMALL_RUN);
+        a.extend([
+            "--seeds",
+            "1,2",
+            "--choose",
+            "patches",
+            "--blend",
+            "4",
+            "--mosaic",
+            "4x4",
+            "--volume",
+            "impedance",
+            "--json",
+            "--out",
+            &p,
+        ]);
+        a.extend_from_slice(extra);
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let nc = summary("m.nc", &[]);
+    let z = summary("m.zarr", &["--chunk-tiles", "2x2"]);
+    // the same seams and slopes as the stream's (summed in another order: equal to rounding)
+    for d in ["x", "y"] {
+        for k in ["inside_m", "across_m", "inside_line_sd_m", "z"] {
+            let (a, b) = (nc["seams"][d][k].as_f64(), z["seams"][d][k].as_f64());
+            let (a, b) = (a.unwrap(), b.unwrap_or(f64::NAN));
+            assert!(
+                (a - b).abs() <= 1e-9 * a.abs().max(1e-12),
+                "{d}.{k}: {a} vs {b}"
+            );
+        }
+        assert_eq!(nc["seams"][d]["seams"], z["seams"][d]["seams"]);
+    }
+    for k in ["max_deg", "above_repose_fraction"] {
+        assert_eq!(nc["surface_slope"][k], z["surface_slope"][k], "{k}");
+    }
+    let (a, b) = (
+        nc["surface_slope"]["rms_deg"].as_f64().unwrap(),
+        z["surface_slope"]["rms_deg"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+    assert!(z["rows_per_s"].as_f64().unwrap() > 0.0, "{z}");
+    // a part computes only some of the chunks: no seams or slopes (they need every row), a
+    // rate of what it computed; a re-run that keeps every chunk computes nothing: no rate
+    let part = summary("p.zarr", &["--chunk-tiles", "2x2", "--part", "0/2"]);
+    assert!(
+        part["seams"].is_null() && part["surface_slope"].is_null(),
+        "{part}"
+    );
+    assert!(part["rows_per_s"].as_f64().unwrap() > 0.0, "{part}");
+    let kept = summary("m.zarr", &["--chunk-tiles", "2x2"]);
+    assert_eq!(kept["zarr"]["written"], 0, "{kept}");
+    assert!(
+        kept["rows_per_s"].is_null() && kept["mb_per_s"].is_null(),
+        "{kept}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

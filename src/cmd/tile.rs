@@ -1010,7 +1010,9 @@ pub fn run(a: Args) -> Result<()> {
             dune_params.rms
         ));
     }
-    let summary = |seams: Option<&SeamStats>, bytes: u64, elapsed: f64| {
+    // `rows`: the rows' worth of bins computed (a part of a store computes only some)
+    let summary = |seams: Option<&SeamStats>, bytes: u64, elapsed: f64, rows: f64| {
+        let rate = |v: f64| (elapsed > 0.0 && v > 0.0).then(|| v / elapsed);
         serde_json::json!({
             "width": w,
             "height": h,
@@ -1026,8 +1028,8 @@ pub fn run(a: Args) -> Result<()> {
             "estimated_bytes": estimate,
             "bytes": bytes,
             "stream_s": elapsed,
-            "rows_per_s": if elapsed > 0.0 && seams.is_some() { h as f64 / elapsed } else { 0.0 },
-            "mb_per_s": if elapsed > 0.0 { bytes as f64 / 1e6 / elapsed } else { 0.0 },
+            "rows_per_s": rate(rows),
+            "mb_per_s": rate(bytes as f64 / 1e6),
             "seams": seams.map(seam_json),
             "dunes": a.dunes.then(|| serde_json::json!({
                 "hurst": matches!(relief, Relief::Fbm { .. }).then_some(a.hurst),
@@ -1073,13 +1075,52 @@ pub fn run(a: Args) -> Result<()> {
     }
     if a.dry_run {
         if a.json {
-            outln!("{}", envelope(summary(None, 0, 0.0))?)?;
+            outln!("{}", envelope(summary(None, 0, 0.0, 0.0))?)?;
         } else {
             conv::note("dry run: nothing written");
             outln!("{estimate}")?;
         }
         return Ok(());
     }
+    // the measured seams and slopes, as text (the dunes' slopes whatever was measured)
+    let measures = |seams: Option<&SeamStats>| -> Result<()> {
+        let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}", x * 1e3));
+        let r = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.2}"));
+        if let Some(seams) = seams {
+            outln!(
+                "seams (mean |jump|, mm): x inside {} across {} (ratio {}), y inside {} across {} (ratio {})",
+                f(seams.x.inside),
+                f(seams.x.across),
+                r(seams.x.ratio()),
+                f(seams.y.inside),
+                f(seams.y.across),
+                r(seams.y.ratio())
+            )?;
+        }
+        if let Some(s) = seams.and_then(|s| s.slope) {
+            outln!(
+                "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            )?;
+        }
+        if let Some(s) = dune_slopes {
+            outln!(
+                "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
+                s.max_deg,
+                s.rms_deg,
+                100.0 * s.above_repose
+            )?;
+        }
+        if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
+            outln!(
+                "dune spectrum slope {s:.2} (requested {:.2})",
+                -(2.0 * hurst + 2.0)
+            )?;
+        }
+        Ok(())
+    };
     if let (true, Some(out)) = (zarr, &out) {
         let o = StoreOpts {
             part,
@@ -1088,7 +1129,7 @@ pub fn run(a: Args) -> Result<()> {
             json: a.json,
             quiet,
         };
-        return write_store(out, src, &spec, &o, &summary, &envelope);
+        return write_store(out, src, &spec, &o, &summary, &envelope, &measures);
     }
     let bar = bar(h as u64, "tile rows", quiet);
     let t0 = Instant::now();
@@ -1117,41 +1158,12 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(p);
     }
     if a.json {
-        outln!("{}", envelope(summary(Some(&seams), bytes, elapsed))?)?;
-    } else {
-        let f = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.3}", x * 1e3));
-        let r = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.2}"));
         outln!(
-            "seams (mean |jump|, mm): x inside {} across {} (ratio {}), y inside {} across {} (ratio {})",
-            f(seams.x.inside),
-            f(seams.x.across),
-            r(seams.x.ratio()),
-            f(seams.y.inside),
-            f(seams.y.across),
-            r(seams.y.ratio())
+            "{}",
+            envelope(summary(Some(&seams), bytes, elapsed, h as f64))?
         )?;
-        if let Some(s) = seams.slope {
-            outln!(
-                "surface slopes (bin to bin): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose ({ANGLE_OF_REPOSE_DEG} deg)",
-                s.max_deg,
-                s.rms_deg,
-                100.0 * s.above_repose
-            )?;
-        }
-        if let Some(s) = dune_slopes {
-            outln!(
-                "dune slopes (dune grid): largest {:.1} deg, rms {:.1} deg, {:.2} % above the angle of repose",
-                s.max_deg,
-                s.rms_deg,
-                100.0 * s.above_repose
-            )?;
-        }
-        if let (Some(s), Relief::Fbm { hurst }) = (dune_slope, relief) {
-            outln!(
-                "dune spectrum slope {s:.2} (requested {:.2})",
-                -(2.0 * hurst + 2.0)
-            )?;
-        }
+    } else {
+        measures(Some(&seams))?;
         outln!(
             "{} in {elapsed:.2} s ({:.0} rows/s, {:.1} MB/s)",
             human(bytes),
@@ -1312,6 +1324,13 @@ fn tiles_hint(e: cellsurf::tile::TileError) -> anyhow::Error {
     }
 }
 
+/// The measured seams and slopes, as text, of the dunes as well (`run`'s).
+type Measures<'a> = dyn Fn(Option<&SeamStats>) -> Result<()> + 'a;
+
+/// The JSON summary of `run` from the seams, bytes written, seconds and rows' worth of bins
+/// computed.
+type Summary<'a> = dyn Fn(Option<&SeamStats>, u64, f64, f64) -> serde_json::Value + 'a;
+
 /// Writes a Zarr store (all of it, one part, or its metadata with `init`). Without a part, a
 /// new store is written into a temporary folder and moved into place when complete
 /// ([`write_zarr_whole`]); a part, or a run that finishes an existing store, writes in place,
@@ -1321,8 +1340,9 @@ fn write_store(
     src: &dyn RowSource,
     spec: &StreamSpec,
     o: &StoreOpts,
-    summary: &dyn Fn(Option<&SeamStats>, u64, f64) -> serde_json::Value,
+    summary: &Summary,
     envelope: &dyn Fn(serde_json::Value) -> Result<String>,
+    measures: &Measures,
 ) -> Result<()> {
     let (json, quiet) = (o.json, o.quiet);
     let t0 = Instant::now();
@@ -1331,7 +1351,7 @@ fn write_store(
         let el = t0.elapsed().as_secs_f64();
         if json {
             conv::wrote(out);
-            let mut v = summary(None, 0, el);
+            let mut v = summary(None, 0, el, 0.0);
             v["zarr"] = serde_json::json!({ "layout": layout, "init": true });
             outln!("{}", envelope(v)?)?;
         } else {
@@ -1383,13 +1403,13 @@ fn write_store(
     .map_err(tiles_hint)?;
     bar.finish_and_clear();
     let el = rep.elapsed_s;
+    let rows = rep.bins as f64 / layout.width.max(1) as f64;
+    conv::wrote(out);
     if json {
-        conv::wrote(out);
-        let mut v = summary(None, rep.bytes, el);
+        let mut v = summary(rep.seams.as_ref(), rep.bytes, el, rows);
         v["zarr"] = serde_json::to_value(&rep)?;
         outln!("{}", envelope(v)?)?;
     } else {
-        conv::wrote(out);
         outln!(
             "{} part {}/{}: {} of {} chunks written ({} kept), {} of values as {} in {el:.2} s ({:.1} MB/s of values)",
             out.display(),
@@ -1402,6 +1422,14 @@ fn write_store(
             human(rep.stored_bytes),
             rep.bytes as f64 / 1e6 / el.max(1e-9)
         )?;
+        if rep.seams.is_none() {
+            outln!(
+                "seams and slopes not measured: this run computed {} of the {} chunks (they need every row of the surface)",
+                rep.written,
+                layout.chunks()
+            )?;
+        }
+        measures(rep.seams.as_ref())?;
     }
     Ok(())
 }

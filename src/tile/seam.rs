@@ -60,6 +60,14 @@ impl SlopeAcc {
         }
     }
 
+    /// Adds the gradients another accumulator took.
+    pub fn merge(&mut self, o: &SlopeAcc) {
+        self.n += o.n;
+        self.sum_sq += o.sum_sq;
+        self.max = self.max.max(o.max);
+        self.above += o.above;
+    }
+
     /// The statistics so far (all 0 when nothing was pushed).
     pub fn stats(&self) -> SlopeStats {
         if self.n == 0 {
@@ -177,9 +185,100 @@ pub struct SeamStats {
     pub slope: Option<SlopeStats>,
 }
 
+/// Lanes of the row kernel [`pass`]: its sums run in `LANES` interleaved partial sums, so that
+/// they vectorise.
+const LANES: usize = 4;
+
+/// The slopes of [`pass`], in height units (m): sums, largest values and counts of the squared
+/// height differences `dh_x^2 + dh_y^2` to the next bin along x and along y, in lanes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Lanes {
+    n: u64,
+    sum: [f64; LANES],
+    max: [f64; LANES],
+    above: [u64; LANES],
+}
+
+impl Lanes {
+    /// The gradients' accumulator for bins of `dx` m.
+    fn slopes(&self, dx: f64) -> SlopeAcc {
+        SlopeAcc {
+            n: self.n,
+            sum_sq: self.sum.iter().sum::<f64>() / (dx * dx),
+            max: self.max.iter().fold(0.0f64, |a, &m| a.max(m)).sqrt() / dx,
+            above: self.above.iter().sum(),
+        }
+    }
+}
+
+/// The squared height difference above which a bin of `dx` m is steeper than the angle of
+/// repose.
+fn repose_sq(dx: f64) -> f64 {
+    let t = ANGLE_OF_REPOSE_DEG.to_radians().tan() * dx;
+    t * t
+}
+
+/// The row kernel of [`SeamMeter`] and [`SeamBlock`]: for the bins of `cur` (with `right`, the
+/// bin after its last), adds `|h(x + 1) - h(x)|` to `cols`; with the row after it, `next`,
+/// also the slopes (`above`: the squared height difference counted as steeper than the angle
+/// of repose), and returns the sum over the row of `|h(y + 1) - h(y)|` (0 without `next`).
+#[inline]
+fn pass(
+    cur: &[f32],
+    right: f32,
+    next: Option<&[f32]>,
+    cols: &mut [f64],
+    lanes: &mut Lanes,
+    above: f64,
+) -> f64 {
+    let n = cur.len().min(cols.len());
+    if n == 0 {
+        return 0.0;
+    }
+    let Some(next) = next.filter(|r| r.len() >= n) else {
+        for (i, c) in cols.iter_mut().enumerate().take(n) {
+            let after = if i + 1 < n { cur[i + 1] } else { right };
+            *c += (after as f64 - cur[i] as f64).abs();
+        }
+        return 0.0;
+    };
+    // local lanes (kept in registers), the bins in fixed runs of LANES without bounds checks
+    let (mut sum, mut max, mut count) = (lanes.sum, lanes.max, lanes.above);
+    let mut row = [0.0f64; LANES];
+    let mut bin = |l: usize, h: f32, hr: f32, hn: f32, col: &mut f64| {
+        let h = h as f64;
+        let (hx, hy) = (hr as f64 - h, hn as f64 - h);
+        *col += hx.abs();
+        row[l] += hy.abs();
+        let d2 = hx * hx + hy * hy;
+        sum[l] += d2;
+        max[l] = if d2 > max[l] { d2 } else { max[l] };
+        count[l] += u64::from(d2 > above);
+    };
+    let last = n - 1;
+    let whole = last - last % LANES;
+    for (((c, r), hn), col) in cur[..whole]
+        .chunks_exact(LANES)
+        .zip(cur[1..=whole].chunks_exact(LANES))
+        .zip(next[..whole].chunks_exact(LANES))
+        .zip(cols[..whole].chunks_exact_mut(LANES))
+    {
+        for l in 0..LANES {
+            bin(l, c[l], r[l], hn[l], &mut col[l]);
+        }
+    }
+    for i in whole..n {
+        let hr = if i < last { cur[i + 1] } else { right };
+        bin(i % LANES, cur[i], hr, next[i], &mut cols[i]);
+    }
+    (lanes.sum, lanes.max, lanes.above) = (sum, max, count);
+    lanes.n += n as u64;
+    row.iter().sum()
+}
+
 /// Measures seams row by row: feed every row of a `width x height` surface made of tiles of
 /// `tile_nx x tile_ny` bins with [`SeamMeter::push_row`], in order, then [`SeamMeter::finish`].
-/// Memory: three rows.
+/// Memory: two rows.
 #[derive(Clone, Debug)]
 pub struct SeamMeter {
     tile_nx: usize,
@@ -189,7 +288,8 @@ pub struct SeamMeter {
     prev: Vec<f32>,
     rows: usize,
     y_lines: Vec<(f64, bool)>,
-    slope: Option<(f64, SlopeAcc)>,
+    bin_size: Option<f64>,
+    lanes: Lanes,
 }
 
 impl SeamMeter {
@@ -203,35 +303,32 @@ impl SeamMeter {
             prev: Vec::new(),
             rows: 0,
             y_lines: Vec::new(),
-            slope: None,
+            bin_size: None,
+            lanes: Lanes::default(),
         }
     }
 
     /// Also measures the bin-to-bin slopes of the surface, bins of `bin_size` m
-    /// ([`SeamStats::slope`]).
+    /// ([`SeamStats::slope`]): the gradient at each bin from the forward differences along x
+    /// and y (periodic).
     pub fn with_slopes(mut self, bin_size: f64) -> SeamMeter {
-        self.slope = Some((bin_size, SlopeAcc::default()));
+        self.bin_size = Some(bin_size);
         self
     }
 
-    /// Slopes between row `prev` and the next row `row` (the gradient at the bins of `prev`).
-    fn slopes(acc: &mut SlopeAcc, dx: f64, prev: &[f32], row: &[f32]) {
-        let w = prev.len();
-        for i in 0..w {
-            let j = if i + 1 == w { 0 } else { i + 1 };
-            let gx = (prev[j] as f64 - prev[i] as f64) / dx;
-            let gy = (row[i] as f64 - prev[i] as f64) / dx;
-            acc.push(gx, gy);
-        }
-    }
-
-    fn row_jump(a: &[f32], b: &[f32]) -> f64 {
-        let s: f64 = a
-            .iter()
-            .zip(b)
-            .map(|(&p, &q)| (q as f64 - p as f64).abs())
-            .sum();
-        s / a.len().max(1) as f64
+    /// The jumps from the previous row to `next` (and the slopes at the previous row's bins).
+    fn pair(&mut self, next: &[f32], seam: bool) {
+        let above = repose_sq(self.bin_size.unwrap_or(1.0));
+        let right = self.prev[0];
+        let s = pass(
+            &self.prev,
+            right,
+            Some(next),
+            &mut self.col_sums,
+            &mut self.lanes,
+            above,
+        );
+        self.y_lines.push((s / self.prev.len() as f64, seam));
     }
 
     /// Adds the next row (its length must be the width).
@@ -240,18 +337,10 @@ impl SeamMeter {
         if row.len() != w || w == 0 {
             return;
         }
-        for i in 0..w {
-            let j = if i + 1 == w { 0 } else { i + 1 };
-            self.col_sums[i] += (row[j] as f64 - row[i] as f64).abs();
-        }
         if self.rows == 0 {
             self.first = row.to_vec();
         } else {
-            let seam = self.rows.is_multiple_of(self.tile_ny);
-            self.y_lines.push((Self::row_jump(&self.prev, row), seam));
-            if let Some((dx, acc)) = &mut self.slope {
-                Self::slopes(acc, *dx, &self.prev, row);
-            }
+            self.pair(row, self.rows.is_multiple_of(self.tile_ny));
         }
         self.prev.clear();
         self.prev.extend_from_slice(row);
@@ -264,12 +353,18 @@ impl SeamMeter {
             return SeamStats::default();
         }
         if self.rows > 1 {
-            let seam = self.rows.is_multiple_of(self.tile_ny);
-            self.y_lines
-                .push((Self::row_jump(&self.prev, &self.first), seam));
-            if let Some((dx, acc)) = &mut self.slope {
-                Self::slopes(acc, *dx, &self.prev, &self.first);
-            }
+            let first = std::mem::take(&mut self.first);
+            self.pair(&first, self.rows.is_multiple_of(self.tile_ny));
+        } else {
+            let right = self.prev[0];
+            pass(
+                &self.prev,
+                right,
+                None,
+                &mut self.col_sums,
+                &mut self.lanes,
+                0.0,
+            );
         }
         let h = self.rows as f64;
         let x_lines: Vec<(f64, bool)> = self
@@ -286,7 +381,144 @@ impl SeamMeter {
         SeamStats {
             x,
             y: DirStats::from_lines(&self.y_lines),
-            slope: self.slope.map(|(_, acc)| acc.stats()),
+            slope: self.bin_size.map(|dx| self.lanes.slopes(dx).stats()),
+        }
+    }
+}
+
+/// The sums of [`SeamMeter`] over one block of a surface, for a surface written block by block
+/// in any order (a Zarr store's chunks): [`SeamBlock::measure`] in each block, then
+/// [`SeamSums::add`] in any order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SeamBlock {
+    x0: usize,
+    y0: usize,
+    /// Per column of the block: the sum over its rows of |h(x + 1, y) - h(x, y)|.
+    cols: Vec<f64>,
+    /// Per row of the block: the sum over its columns of |h(x, y + 1) - h(x, y)|.
+    rows: Vec<f64>,
+    slope: SlopeAcc,
+}
+
+impl SeamBlock {
+    /// The sums over the block of `nx x ny` bins at `(x0, y0)`: `block` holds its rows, `stride`
+    /// values apart; its periodic neighbours are `next_col`, the bin after each row's last
+    /// (`ny` values: column 0 after the surface's last), and `next_row`, the row after its last
+    /// (`nx` values: row 0 after the surface's last). `bin_size`, m, also measures the slopes;
+    /// `pair_rows` false (a surface of one row) measures no row pairs and no slopes, as
+    /// [`SeamMeter`]. The same per-bin arithmetic as the meter's.
+    pub fn measure(
+        (x0, y0): (usize, usize),
+        (nx, ny): (usize, usize),
+        (block, stride): (&[f32], usize),
+        (next_col, next_row): (&[f32], &[f32]),
+        bin_size: Option<f64>,
+        pair_rows: bool,
+    ) -> SeamBlock {
+        let mut b = SeamBlock {
+            x0,
+            y0,
+            cols: vec![0.0; nx],
+            rows: vec![0.0; if pair_rows { ny } else { 0 }],
+            slope: SlopeAcc::default(),
+        };
+        if ny == 0 || block.len() < (ny - 1) * stride + nx || next_col.len() < ny {
+            return b;
+        }
+        let above = repose_sq(bin_size.unwrap_or(1.0));
+        let mut lanes = Lanes::default();
+        for y in 0..ny {
+            let cur = &block[y * stride..y * stride + nx];
+            let next = if y + 1 < ny {
+                &block[(y + 1) * stride..(y + 1) * stride + nx]
+            } else {
+                next_row
+            };
+            let s = pass(
+                cur,
+                next_col[y],
+                pair_rows.then_some(next),
+                &mut b.cols,
+                &mut lanes,
+                above,
+            );
+            if pair_rows {
+                b.rows[y] = s;
+            }
+        }
+        if let Some(dx) = bin_size.filter(|_| pair_rows) {
+            b.slope = lanes.slopes(dx);
+        }
+        b
+    }
+}
+
+/// [`SeamMeter`]'s statistics from [`SeamBlock`]s added in any order: the same line means
+/// (summed in another order, so equal to rounding), the same slopes.
+#[derive(Clone, Debug)]
+pub struct SeamSums {
+    tile_nx: usize,
+    tile_ny: usize,
+    cols: Vec<f64>,
+    rows: Vec<f64>,
+    slope: Option<SlopeAcc>,
+}
+
+impl SeamSums {
+    /// Sums for a `width x height` surface of tiles of `tile_nx x tile_ny` bins; `slopes`:
+    /// whether the blocks measure slopes ([`SeamMeter::with_slopes`]).
+    pub fn new(width: usize, height: usize, tile_nx: usize, tile_ny: usize, slopes: bool) -> Self {
+        SeamSums {
+            tile_nx: tile_nx.max(1),
+            tile_ny: tile_ny.max(1),
+            cols: vec![0.0; width],
+            rows: vec![0.0; height],
+            slope: slopes.then(SlopeAcc::default),
+        }
+    }
+
+    /// Adds a block's sums (blocks must not overlap).
+    pub fn add(&mut self, b: &SeamBlock) {
+        for (s, v) in self.cols.iter_mut().skip(b.x0).zip(&b.cols) {
+            *s += v;
+        }
+        for (s, v) in self.rows.iter_mut().skip(b.y0).zip(&b.rows) {
+            *s += v;
+        }
+        if let Some(acc) = &mut self.slope {
+            acc.merge(&b.slope);
+        }
+    }
+
+    /// The statistics, once every bin of the surface is in one block added.
+    pub fn finish(self) -> SeamStats {
+        let (w, h) = (self.cols.len(), self.rows.len());
+        if w == 0 || h == 0 {
+            return SeamStats::default();
+        }
+        let x_lines: Vec<(f64, bool)> = self
+            .cols
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| (s / h as f64, (i + 1) % self.tile_nx == 0))
+            .collect();
+        let y_lines: Vec<(f64, bool)> = if h > 1 {
+            self.rows
+                .iter()
+                .enumerate()
+                .map(|(j, &s)| (s / w as f64, (j + 1) % self.tile_ny == 0))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        SeamStats {
+            x: if w > 1 {
+                DirStats::from_lines(&x_lines)
+            } else {
+                DirStats::default()
+            },
+            y: DirStats::from_lines(&y_lines),
+            slope: self.slope.map(|acc| acc.stats()),
         }
     }
 }
@@ -329,6 +561,63 @@ mod tests {
         assert_eq!(s.y.seams, 2);
         assert_eq!(s.y.lines, 2);
         assert_eq!(s.slope, None);
+    }
+
+    #[test]
+    fn blocks_in_any_order_give_the_meter_s_statistics() {
+        // a 7 x 5 surface of 3 x 2 tiles (partial tiles at the edges), blocks of 3 x 2
+        let (w, h) = (7usize, 5usize);
+        let v = |x: usize, y: usize| ((x * 7 + y * 13) % 11) as f32 * 0.01 + (x / 3) as f32;
+        let mut m = SeamMeter::new(w, 3, 2).with_slopes(0.5);
+        for y in 0..h {
+            let row: Vec<f32> = (0..w).map(|x| v(x, y)).collect();
+            m.push_row(&row);
+        }
+        let want = m.finish();
+        let mut sums = SeamSums::new(w, h, 3, 2, true);
+        let mut blocks = Vec::new();
+        for y0 in (0..h).step_by(2) {
+            for x0 in (0..w).step_by(3) {
+                let (nx, ny) = (3.min(w - x0), 2.min(h - y0));
+                // the block in a chunk of stride 4, its next column and row
+                let stride = 4;
+                let mut vals = vec![f32::NAN; stride * ny];
+                for r in 0..ny {
+                    for c in 0..nx {
+                        vals[r * stride + c] = v(x0 + c, y0 + r);
+                    }
+                }
+                let col: Vec<f32> = (0..ny).map(|r| v((x0 + nx) % w, y0 + r)).collect();
+                let row: Vec<f32> = (0..nx).map(|c| v(x0 + c, (y0 + ny) % h)).collect();
+                blocks.push(SeamBlock::measure(
+                    (x0, y0),
+                    (nx, ny),
+                    (&vals, stride),
+                    (&col, &row),
+                    Some(0.5),
+                    true,
+                ));
+            }
+        }
+        for b in blocks.iter().rev() {
+            sums.add(b);
+        }
+        let got = sums.finish();
+        let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-12 * a.abs().max(1.0),
+            (a, b) => a == b,
+        };
+        for (g, e) in [(got.x, want.x), (got.y, want.y)] {
+            assert!(
+                close(g.inside, e.inside) && close(g.across, e.across),
+                "{g:?} {e:?}"
+            );
+            assert!(close(g.inside_line_sd, e.inside_line_sd), "{g:?} {e:?}");
+            assert_eq!((g.seams, g.lines), (e.seams, e.lines));
+        }
+        let (gs, es) = (got.slope.unwrap(), want.slope.unwrap());
+        assert_eq!((gs.n, gs.above_repose), (es.n, es.above_repose));
+        assert!((gs.max_deg - es.max_deg).abs() < 1e-12 && (gs.rms_deg - es.rms_deg).abs() < 1e-9);
     }
 
     #[test]

@@ -11,7 +11,8 @@
 //! - [`write_zarr`]: writes the chunks of a part (or all of them) in parallel (rayon), each
 //!   computed from the [`RowSource`] spans it covers, compressed (zstd) and written
 //!   atomically; chunks already present and sound are kept, so re-running a killed part
-//!   finishes the store. [`init_zarr`] writes the metadata alone (`--init`).
+//!   finishes the store; the seam statistic and the slopes are measured as the chunks are
+//!   computed ([`ZarrReport::seams`]). [`init_zarr`] writes the metadata alone (`--init`).
 //!   [`write_zarr_whole`]: one process's new store, through a temporary folder.
 //! - [`check_zarr`]: the missing and damaged chunks of a store and the temporary files
 //!   killed writers left ([`ZarrCheck`]); [`verify_zarr`]: whether a store was made with given
@@ -25,6 +26,7 @@
 //! Memory is one chunk per worker thread (a few MB), whatever the mosaic's size.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -33,6 +35,7 @@ use serde::Serialize;
 use serde_json::{Map, Value};
 
 use super::TileError;
+use super::seam::{SeamBlock, SeamStats, SeamSums};
 use super::stream::{RowSource, StreamSpec};
 use crate::engine::VERSION;
 use crate::engine::zarr::{
@@ -145,8 +148,15 @@ pub struct ZarrReport {
     pub bytes: u64,
     /// Bytes of the chunk files written (compressed).
     pub stored_bytes: u64,
+    /// Bins of the surface computed (the elevation values of the chunks written).
+    pub bins: u64,
     /// Seconds.
     pub elapsed_s: f64,
+    /// The seam statistic and the surface's slopes, measured while the chunks were computed:
+    /// only when this run computed every chunk of the surface (they need every row; a part,
+    /// or a re-run that kept chunks, computes only some).
+    #[serde(skip)]
+    pub seams: Option<SeamStats>,
 }
 
 /// The parameter (`param_tiles_sha256` in a store) that records the SHA-256 digest of the
@@ -373,12 +383,18 @@ pub fn write_zarr(
     let dx = src.bin_size();
     let owned = part.range(layout.chunks());
     let n_owned = owned.len();
-    let (done, written, stored, values) = (
+    let (done, written, stored, values, bins) = (
         AtomicUsize::new(0),
         AtomicUsize::new(0),
+        AtomicU64::new(0),
         AtomicU64::new(0),
         AtomicU64::new(0),
     );
+    // The seam statistic and the slopes need every chunk: measured by a run of the whole
+    // store (a part computes only its share; a run that keeps chunks reports none).
+    let measure = part.count == 1;
+    let (tnx, tny) = src.tile_size();
+    let sums = Mutex::new(SeamSums::new(w, h, tnx, tny, true));
     let size_of = |name: &str, idx: &[u64]| {
         store
             .chunk_path(name, idx)
@@ -442,6 +458,26 @@ pub fn write_zarr(
                 for r in 0..nys {
                     src.fill_span(y0 + r, x0, &mut elev[r * cx..r * cx + nxs]);
                 }
+                if measure {
+                    // the column and the row after the chunk (periodic)
+                    let mut next_col = vec![0.0f32; nys];
+                    for (r, v) in next_col.iter_mut().enumerate() {
+                        src.fill_span(y0 + r, (x0 + nxs) % w, std::slice::from_mut(v));
+                    }
+                    let mut next_row = vec![0.0f32; nxs];
+                    src.fill_span((y0 + nys) % h, x0, &mut next_row);
+                    let block = SeamBlock::measure(
+                        (x0, y0),
+                        (nxs, nys),
+                        (&elev, cx),
+                        (&next_col, &next_row),
+                        Some(dx),
+                        h > 1,
+                    );
+                    if let Ok(mut s) = sums.lock() {
+                        s.add(&block);
+                    }
+                }
                 store
                     .write_chunk_f32("elevation", &e_idx, &elev)
                     .map_err(zerr)?;
@@ -463,12 +499,16 @@ pub fn write_zarr(
                 let s: u64 = names.iter().zip(&idxs).map(|(n, i)| size_of(n, i)).sum();
                 stored.fetch_add(s, Ordering::Relaxed);
                 values.fetch_add(4 * n_values as u64, Ordering::Relaxed);
+                bins.fetch_add((nxs * nys) as u64, Ordering::Relaxed);
                 written.fetch_add(1, Ordering::Relaxed);
             }
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);
             Ok(())
         })?;
     let written = written.into_inner();
+    let seams = (measure && written == layout.chunks())
+        .then(|| sums.into_inner().ok().map(SeamSums::finish))
+        .flatten();
     Ok(ZarrReport {
         layout,
         part,
@@ -477,7 +517,9 @@ pub fn write_zarr(
         kept: n_owned - written,
         bytes: values.into_inner(),
         stored_bytes: stored.into_inner(),
+        bins: bins.into_inner(),
         elapsed_s: start.elapsed().as_secs_f64(),
+        seams,
     })
 }
 
