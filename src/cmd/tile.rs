@@ -1250,30 +1250,31 @@ fn check(store: &std::path::Path, part: Option<Part>, json: bool) -> Result<()> 
                 arr.damaged.len()
             ));
             // the first CHECK_LISTED of each kind, and how many more (`--json` lists them all)
-            for (idx, why) in arr.damaged.iter().take(CHECK_LISTED) {
-                super::conv::err_line(format_args!("  damaged chunk {idx:?}: {why}"));
-            }
-            if let Some(more) = arr
-                .damaged
-                .len()
-                .checked_sub(CHECK_LISTED)
-                .filter(|&m| m > 0)
-            {
-                super::conv::err_line(format_args!("  ... and {more} more damaged chunks"));
-            }
-            for idx in arr.missing.iter().take(CHECK_LISTED) {
-                super::conv::err_line(format_args!("  missing chunk {idx:?}"));
-            }
-            if let Some(more) = arr
-                .missing
-                .len()
-                .checked_sub(CHECK_LISTED)
-                .filter(|&m| m > 0)
-            {
-                super::conv::err_line(format_args!(
-                    "  ... and {more} more missing chunks (--json lists every chunk)"
-                ));
-            }
+            let list = |lines: Vec<String>, kind: &str| {
+                for l in lines.iter().take(CHECK_LISTED) {
+                    super::conv::err_line(l);
+                }
+                if lines.len() > CHECK_LISTED {
+                    super::conv::err_line(format_args!(
+                        "  ... and {} more {kind} chunks (--json lists every chunk)",
+                        lines.len() - CHECK_LISTED
+                    ));
+                }
+            };
+            list(
+                arr.damaged
+                    .iter()
+                    .map(|(idx, why)| format!("  damaged chunk {idx:?}: {why}"))
+                    .collect(),
+                "damaged",
+            );
+            list(
+                arr.missing
+                    .iter()
+                    .map(|idx| format!("  missing chunk {idx:?}"))
+                    .collect(),
+                "missing",
+            );
         }
         for t in &c.stale_temporaries {
             super::conv::err_line(format_args!(
