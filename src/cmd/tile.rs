@@ -734,44 +734,17 @@ pub fn run(a: Args) -> Result<()> {
         None => None,
     };
     if !a.dunes {
-        for id in [
-            "hurst",
-            "dune_rms",
-            "dune_wavelength",
-            "steering",
-            "dune_grid",
-            "dune_seed",
-        ] {
+        for id in DUNE_OPTIONS {
             if conv::typed(id) {
                 let flag = conv::typed_flag(id).unwrap_or_default();
                 bail!("{flag} applies to rippled dunes only: add --dunes");
             }
         }
-        warn_scenario_keys(
-            &a,
-            &[
-                "hurst",
-                "dune_rms",
-                "dune_wavelength",
-                "steering",
-                "dune_grid",
-                "dune_seed",
-            ],
-            "rippled dunes only (dunes = true)",
-        )?;
+        warn_scenario_keys(&a, DUNE_OPTIONS, "rippled dunes only (dunes = true)")?;
     }
     if !a.generate {
-        for id in [
-            "ripple_scenario",
-            "size",
-            "nx",
-            "ny",
-            "layers",
-            "steps",
-            "activity",
-            "bin_size",
-            "seeds",
-        ] {
+        // (the hidden old spellings --nx and --ny are options of their own, not scenario keys)
+        for id in GENERATE_OPTIONS.iter().chain(&["nx", "ny"]) {
             if conv::typed(id) {
                 let flag = conv::typed_flag(id).unwrap_or_default();
                 bail!(
@@ -781,15 +754,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         warn_scenario_keys(
             &a,
-            &[
-                "ripple_scenario",
-                "size",
-                "layers",
-                "steps",
-                "activity",
-                "bin_size",
-                "seeds",
-            ],
+            GENERATE_OPTIONS,
             "tiles generated in-process only (generate = true)",
         )?;
     }
@@ -1199,6 +1164,27 @@ fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
         _ => Ok(()),
     }
 }
+
+/// The options of the rippled dunes (`--dunes`).
+const DUNE_OPTIONS: &[&str] = &[
+    "hurst",
+    "dune_rms",
+    "dune_wavelength",
+    "steering",
+    "dune_grid",
+    "dune_seed",
+];
+
+/// The options of the tiles generated in-process (`--generate`).
+const GENERATE_OPTIONS: &[&str] = &[
+    "ripple_scenario",
+    "size",
+    "layers",
+    "steps",
+    "activity",
+    "bin_size",
+    "seeds",
+];
 
 /// Warns of each of `ids` that a scenario file set away from its default although it
 /// applies to `applies` only (the command line refuses such a flag; a scenario written by
