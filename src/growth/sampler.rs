@@ -175,16 +175,28 @@ pub fn rejected_picks_linear(p: f64, e: f64) -> f64 {
     if p >= 1.0 {
         return 0.0;
     }
+    if p < TINY_P {
+        // (the logarithm's count without the logarithm: rejected_picks_by_log; an n = 50
+        // flame's faceted front has p of 1e-24, where the series would only decline)
+        return rejected_picks_by_log(p, e);
+    }
     if let Some(k) = geometric_count_by_series(p, e) {
         return k;
     }
     rejected_picks_by_log(p, e)
 }
 
+/// Below this acceptance probability `-ln(1 - p)` rounds to `p` (`2^-54`).
+const TINY_P: f64 = 5.551115123125783e-17;
+
 /// `floor(e / -ln(1 - p))` by the logarithm, for `0 < p < 1`.
 #[inline]
 fn rejected_picks_by_log(p: f64, e: f64) -> f64 {
-    let k = e / -(-p).ln_1p();
+    // -ln(1 - p) = p (1 + p/2 + ...) is p itself in f64 below 2^-54, and ln_1p returns it
+    // there (test `rejected_picks_by_log_skips_the_logarithm_only_where_it_is_p`): the
+    // count is then e / p, without the call.
+    let rate = if p < TINY_P { p } else { -(-p).ln_1p() };
+    let k = e / rate;
     // floor() of a non-negative value below 2^63 by truncation (floor is a library call on
     // the baseline x86-64 target); larger values (and +inf) are whole already (an f64 at or
     // above 2^52 has no fraction).
@@ -388,6 +400,11 @@ impl Growth {
         if self.surface.is_flat() {
             return self.step_exact_flat(rng, limit);
         }
+        if self.tree.is_none()
+            && let Some(iw) = self.rule.int_weights().copied()
+        {
+            return self.step_exact_int::<Z>(rng, limit, s, &iw);
+        }
         // Class masses m_b: count (uniform v) or sum of v (per-site weights), and the top
         // class (highest b with m_b > 0).
         let mut mass = [0.0f64; 9];
@@ -419,11 +436,6 @@ impl Growth {
             self.time = limit;
             return Outcome::Stalled;
         }
-        if self.tree.is_none()
-            && let Some(iw) = self.rule.int_weights().copied()
-        {
-            return self.step_exact_int::<Z>(rng, limit, s, top, &iw);
-        }
         // Weights relative to the top class: w_b = m_b (b/top)^n, w_top = m_top >= its
         // smallest v > 0, so the sum never underflows to 0.
         let mut w = [0.0f64; 9];
@@ -444,7 +456,8 @@ impl Growth {
                 let p_top = self.rule.p(top);
                 let mut ln_wait = None;
                 let wait = if p_top > 1e-280 {
-                    let p = total * p_top / s as f64;
+                    // (u32 converts in one instruction; a lattice has < 2^28 cells)
+                    let p = total * p_top / f64::from(s as u32);
                     if p >= 1.0 {
                         0.0
                     } else {
@@ -452,7 +465,7 @@ impl Growth {
                     }
                 } else {
                     let e: f64 = rng.sample(Exp1);
-                    let ln_p = total.ln() + self.rule.ln_p(top) - (s as f64).ln();
+                    let ln_p = total.ln() + self.rule.ln_p(top) - f64::from(s as u32).ln();
                     let w = rejected_picks(ln_p, e);
                     if w.is_infinite() {
                         ln_wait = Some(ln_rejected_picks(ln_p, e));
@@ -531,7 +544,6 @@ impl Growth {
         rng: &mut Stream,
         limit: f64,
         s: usize,
-        top: usize,
         iw: &[u64; 9],
     ) -> Outcome {
         let mut w = [0u64; 9];
@@ -540,11 +552,18 @@ impl Growth {
             w[b] = self.surface.class_len(b) as u64 * iw[b];
             total += w[b];
         }
+        if total == 0 {
+            // (no site with b >= 1: every p is 0)
+            self.time = limit;
+            return Outcome::Stalled;
+        }
         let at = match self.pending.take() {
             Some(at) => at,
             None => {
-                // P = total / (z^n S); z^n = int_w[z], exact in f64 (at most 2^35)
-                let p = total as f64 / (iw[Z] as f64 * s as f64);
+                // P = total / (z^n S); z^n = int_w[z], exact in f64 (at most 2^35), and the
+                // total below 2^63 converts as an i64 (one instruction; as a u64, several)
+                let p =
+                    (total as i64) as f64 / (self.rule.int_weight_total() * f64::from(s as u32));
                 let wait = if p >= 1.0 {
                     0.0
                 } else {
@@ -556,25 +575,20 @@ impl Growth {
         if let Some(stop) = self.move_clock_to(at, limit) {
             return stop;
         }
-        // one uniform integer in [0, total): the class by its mass, the slot by the remainder
+        // One uniform integer in [0, total): the class by its mass, the slot by the
+        // remainder. Highest class first; an empty class (w = 0, r < 0 never) is passed over
+        // without a test of its own, and r < total stops the walk at a class with w > 0.
         let mut r = rng.random_range(0..total);
-        let mut class = top;
-        for b in (1..=top).rev() {
-            if w[b] > 0 {
+        let mut class = 1;
+        for b in (1..=Z).rev() {
+            if r < w[b] {
                 class = b;
-                if r < w[b] {
-                    break;
-                }
-                r -= w[b];
+                break;
             }
+            r -= w[b];
         }
         let range = self.surface.class_range(class);
-        let k = if r <= u64::from(u32::MAX) && iw[class] <= u64::from(u32::MAX) {
-            // (a 32-bit division is the shorter one)
-            u64::from(r as u32 / iw[class] as u32)
-        } else {
-            r / iw[class]
-        } as usize;
+        let k = self.rule.int_quotient(r, class) as usize;
         let slot = range.start + k.min(range.end - range.start - 1);
         let cell = self.surface.site(slot) as usize;
         self.occupy_unchecked(cell);
@@ -813,6 +827,32 @@ mod tests {
         assert_eq!(geometric_count_by_series(0.0, 1.0), None);
         assert_eq!(geometric_count_by_series(f64::NAN, 1.0), None);
         assert_eq!(geometric_count_by_series(1e-17, 1.0), None);
+    }
+
+    #[test]
+    fn rejected_picks_by_log_skips_the_logarithm_only_where_it_is_p() {
+        // Below 2^-54, -ln(1 - p) rounds to p: the library's ln_1p returns it, so the count
+        // e / p taken without the call is the logarithm's, bit for bit (n = 50 flames reach
+        // p of 1e-24 on a faceted front).
+        assert_eq!(TINY_P, 2f64.powi(-54));
+        let mut rng = stream(12);
+        let below = |p: f64| p * (1.0 - f64::EPSILON);
+        let mut ps = vec![below(TINY_P), 1e-20, 1e-100, 1e-300, f64::MIN_POSITIVE];
+        ps.extend((0..100_000).map(|_| TINY_P * (-700.0 * rng.random::<f64>()).exp()));
+        for p in ps {
+            assert!(p < TINY_P);
+            assert_eq!(-(-p).ln_1p(), p, "p = {p:e}");
+            let e: f64 = rng.sample(Exp1);
+            let k = e / p;
+            let by_log = if k < 9.2e18 { (k as i64) as f64 } else { k };
+            assert_eq!(rejected_picks_by_log(p, e), by_log, "p = {p:e}, e = {e}");
+            assert_eq!(rejected_picks_linear(p, e), by_log, "p = {p:e}, e = {e}");
+        }
+        // At and above 2^-54 the logarithm is taken, and differs from p: the shortcut's
+        // bound is where the two part.
+        let p = 1e-8f64;
+        assert_ne!(-(-p).ln_1p(), p);
+        assert_eq!(rejected_picks_by_log(p, 1.0), (1.0 / -(-p).ln_1p()).floor());
     }
 
     #[test]
