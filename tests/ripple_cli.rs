@@ -724,7 +724,7 @@ fn wave_vortex_flags_and_bad_input() {
                 "2s",
             ][..],
             "--wave-vortex",
-            "there are no waves",
+            "--wave-velocity = 0 gives none",
         ),
         (
             &["--no-wave-vortex"][..],

@@ -199,6 +199,61 @@ fn a_scenario_reruns_the_same_physical_time_and_period() {
 }
 
 #[test]
+fn no_motion_under_until_equilibrium_says_no_motion() {
+    // a run that moves nothing makes no step: it did not run to its cap
+    let v = json(&run(&[
+        "--current-speed",
+        "0.2",
+        "--until",
+        "equilibrium",
+        "--steps",
+        "4000",
+        "--json",
+        "--quiet",
+    ]));
+    assert_eq!(v["regime"], "no motion");
+    assert_eq!(v["parameters"]["steps"], 0);
+    assert_eq!(v["stop_reason"], "no motion");
+}
+
+#[test]
+fn waves_switched_off_leave_the_wave_options_idle_and_refused() {
+    // --wave-velocity 0 is no waves: a wave option given with it is refused by name, as
+    // without --wave-velocity at all
+    let e = refused(&run(&[
+        "--wave-velocity",
+        "0",
+        "--wave-period",
+        "8s",
+        "--steps",
+        "10",
+    ]));
+    assert!(
+        e.contains("--wave-period = 8 s") && e.contains("--wave-velocity = 0"),
+        "{e}"
+    );
+    let e = refused(&run(&[
+        "--wave-velocity",
+        "0",
+        "--wave-angle",
+        "30",
+        "--steps",
+        "10",
+    ]));
+    assert!(e.contains("--wave-angle = 30"), "{e}");
+    // alone it is a run without waves
+    let v = json(&run(&[
+        "--wave-velocity",
+        "0",
+        "--steps",
+        "10",
+        "--json",
+        "--quiet",
+    ]));
+    assert_eq!(v["wave_period_s"], serde_json::Value::Null);
+}
+
+#[test]
 fn no_motion_records_what_was_asked_and_run() {
     let out = tmp("nm.npy");
     let v = json(&run(&[

@@ -435,10 +435,17 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             p.wave_friction_factor
         ));
     }
-    // wave options with no waves to act on
-    if p.wave_amplitude == 0.0 && a.wave_amplitude.is_none() {
+    // wave options with no waves to act on: none given, or switched off on the command line
+    // (`--wave-velocity 0`, which leaves a scenario's own wave keys idle without a word)
+    let switched_off = a.wave_amplitude.is_some();
+    if p.wave_amplitude == 0.0 {
+        let period = if switched_off {
+            a.wave_period
+        } else {
+            secs.wave_period()
+        };
         let idle: Vec<String> = [
-            ("wave_period", secs.wave_period().map(|t| format!("{t} s"))),
+            ("wave_period", period.map(|t| format!("{t} s"))),
             ("wave_angle", a.wave_angle.map(|v| v.to_string())),
             (
                 "wave_friction_factor",
@@ -464,6 +471,14 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             })
         })
         .collect();
+        if !idle.is_empty() && switched_off {
+            bail!(
+                "{} acts on waves, and --wave-velocity = 0 gives none: leave {} out, or give a \
+                 near-bed orbital velocity above 0 m/s",
+                idle.join(" and "),
+                if idle.len() > 1 { "them" } else { "it" }
+            );
+        }
         if !idle.is_empty() {
             bail!(
                 "{} acts on waves, and there are none: give --wave-velocity (near-bed orbital velocity, m/s) or --wave-height with --water-depth",
@@ -1090,10 +1105,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     let elapsed = start.elapsed().as_secs_f64();
     // why the run stopped where it did
+    // (no motion first: such a run makes no step, whatever it was to run until)
     let stop_reason = match (&p.until, mature.as_ref().and_then(|m| m.0)) {
+        _ if clock.is_none() => "no motion",
         (Some(_), Some(_)) => "equilibrium",
         (Some(_), None) => "cap (steps)",
-        (None, _) if clock.is_none() => "no motion",
         (None, _) => "steps",
     };
     let missed: Vec<u64> = times.iter().copied().filter(|&t| t > r.time()).collect();
