@@ -109,7 +109,7 @@ impl Sticking {
         let int_recip = int_w.map_or([0; 9], |w| {
             w.map(|d| {
                 if (2..=1 << 32).contains(&d) {
-                    // ceil(2^64 / d), below 2^63 for d >= 2
+                    // ceil(2^64 / d): at most 2^63 for d >= 2
                     (u64::MAX / d) + 1
                 } else {
                     0
@@ -172,16 +172,17 @@ impl Sticking {
     pub fn int_weights(&self) -> Option<&[u64; 9]> {
         self.int_w.as_ref()
     }
-    /// `z^n` as an `f64` (exact: at most 2^35), the sum of the whole-number weights' factor:
-    /// `P = sum_b m_b int_w[b] / (z^n S)`. Needs [`Sticking::int_weights`] (else 1).
+    /// `z^n` as an `f64` (exact: at most 2^35), the factor between the whole-number weights
+    /// and the probabilities: `P = sum_b m_b int_w[b] / (z^n S)`. Needs
+    /// [`Sticking::int_weights`] (else 1).
     #[inline]
     pub fn int_weight_total(&self) -> f64 {
         self.int_w
             .as_ref()
             .map_or(1.0, |w| (w[self.z] as i64) as f64)
     }
-    /// `r / int_w[b]` rounded down, for `r` below 2^32 times the total: the slot within class
-    /// `b` of the exact sampler's integer draw `r` (the remainder after the classes above).
+    /// `r / int_w[b]` rounded down, for any `r`: the slot within class `b` of the exact
+    /// sampler's integer draw (`r`, the remainder after the classes above).
     /// A number below 2^32 is divided by a weight of 2 to 2^32 as `(r m) >> 64` with `m =
     /// ceil(2^64 / w)`: `m w = 2^64 + e` with `0 <= e < w`, so `r m / 2^64 = r / w + r e /
     /// (w 2^64)`, and `r e < 2^64` keeps the second term below `1 / w`, too little to carry
