@@ -774,6 +774,34 @@ mod cli {
         assert!(o.status.success() && !err.contains("warning"), "{err}");
     }
 
+    /// `--dune=false` runs ripple mode from a scenario in dune mode (a bare switch could not
+    /// be turned off from the command line); `-d` and `--dune` alone still mean dune mode.
+    #[test]
+    fn dune_false_switches_a_scenarios_dune_mode_off() {
+        let dir = tmp("dune-false");
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("s.toml");
+        std::fs::write(&f, "model = \"dunes\"\ndune = true\nsize = 16\nsteps = 2\n").unwrap();
+        let f = f.to_str().unwrap();
+        let mode = |args: &[&str]| json(args)["parameters"]["dune"].clone();
+        assert_eq!(mode(&["dunes", "--scenario", f, "--json"]), true);
+        assert_eq!(
+            mode(&["dunes", "--scenario", f, "--dune=false", "--json"]),
+            false
+        );
+        assert_eq!(
+            mode(&["dunes", "-d", "--size", "16", "--steps", "2", "--json"]),
+            true
+        );
+        assert_eq!(
+            mode(&["dunes", "--dune", "--size", "16", "--steps", "2", "--json"]),
+            true
+        );
+        let o = cellsurf(&["dunes", "--dune=maybe", "--size", "16"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains("--dune"), "{err}");
+    }
+
     /// The parameters a PNG records are the run's scenario: fed back, the same picture, in
     /// both modes of the article and in Werner's variant.
     #[test]

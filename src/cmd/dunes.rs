@@ -66,8 +66,19 @@ pub struct Args {
     )]
     steps: u64,
     /// Dune mode: int(0.2 N^2) picks among cells with sand, tanh jump and quantity laws,
-    /// D = 0.3 (without -d: ripple mode, N^2 picks, jump int(wind + h), q = 0.1, D = 0.1).
-    #[arg(short = 'd', long = "dune")]
+    /// D = 0.3 (without -d: ripple mode, N^2 picks, jump int(wind + h), q = 0.1, D = 0.1;
+    /// `--dune=false` runs ripple mode from a scenario that sets `dune = true`).
+    #[arg(
+        short = 'd',
+        long = "dune",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "true",
+        default_value_t = false,
+        action = clap::ArgAction::Set,
+        value_name = "BOOL",
+        value_parser = clap::builder::BoolishValueParser::new()
+    )]
     dune: bool,
     /// Sand quantity Q: mean initial height in cell widths, initial h uniform in [0, 2Q]
     /// (dune mode and werner; 0 to 10^5).
