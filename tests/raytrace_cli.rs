@@ -815,3 +815,114 @@ fn rays_beyond_max_rays_and_bad_impedance_are_named() {
         ],
     );
 }
+
+/// `cellsurf raytrace` run in the folder `dir`.
+fn cellsurf_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Two outputs naming one file in other spellings (`z.csv` and `./z.csv`, a path and its
+/// absolute form, `sub/y.csv` and `sub/../sub/y.csv`) are refused before the run, naming both
+/// options; the file already there is left as it was.
+#[test]
+fn one_file_named_twice_in_other_spellings_is_refused_before_the_run() {
+    let dir = tmp("spellings");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let abs = dir.join("w.csv");
+    let cases: [(&[&str], &str, &str); 4] = [
+        (
+            &["--out", "z.csv", "--seafloor-csv-out", "./z.csv"],
+            "--seafloor-csv-out ./z.csv: the same file as --out z.csv",
+            "z.csv",
+        ),
+        (
+            &["--out", "z.csv", "--rays-csv", "./z.csv"],
+            "--rays-csv ./z.csv: the same file as --out z.csv",
+            "z.csv",
+        ),
+        (
+            &[
+                "--out",
+                abs.to_str().unwrap(),
+                "--seafloor-csv-out",
+                "w.csv",
+            ],
+            "--seafloor-csv-out w.csv: the same file as --out",
+            "w.csv",
+        ),
+        (
+            &[
+                "--out",
+                "sub/y.csv",
+                "--seafloor-csv-out",
+                "sub/../sub/y.csv",
+            ],
+            "--seafloor-csv-out sub/../sub/y.csv: the same file as --out sub/y.csv",
+            "sub/y.csv",
+        ),
+    ];
+    for (args, want, file) in cases {
+        std::fs::write(dir.join(file), "OLD\n").unwrap();
+        let mut a = vec!["raytrace", "--length", "2"];
+        a.extend(args);
+        let o = cellsurf_in(&dir, &a);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {e}");
+        assert!(e.contains(want), "{args:?}: {e}");
+        // before the run: no summary, and the file as it was
+        assert!(o.stdout.is_empty(), "{args:?} ran");
+        assert_eq!(
+            std::fs::read_to_string(dir.join(file)).unwrap(),
+            "OLD\n",
+            "{args:?}"
+        );
+    }
+}
+
+/// A whole-number option past what its type or a scenario file holds is refused naming the
+/// option, the value and the range, on the command line and in a scenario file.
+#[test]
+fn whole_numbers_past_their_type_are_refused_by_name_and_range() {
+    for v in [
+        "1e19",
+        "9223372036854775808",
+        "18446744073709551615",
+        "1e30",
+    ] {
+        for extra in [&[][..], &["--print-scenario"][..]] {
+            let mut a = vec!["raytrace", "--length", "2", "--max-rays", v];
+            a.extend(extra);
+            let o = cellsurf(&a);
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{v}: {e}");
+            assert!(
+                e.contains(&format!("'{v}' for '--max-rays"))
+                    && e.contains("at most 9223372036854775807"),
+                "{v}: {e}"
+            );
+            assert!(!e.contains("u64"), "{e}");
+        }
+    }
+    for (model, key, extra) in [
+        ("raytrace", "max_rays", ""),
+        ("raytrace", "rays", ""),
+        ("raytrace", "seed", ""),
+        ("cursor", "steps", "size = 16\n"),
+    ] {
+        let p = tmp(&format!("huge_{model}_{key}.toml"));
+        std::fs::write(&p, format!("model = \"{model}\"\n{extra}{key} = 1e19\n")).unwrap();
+        let o = cellsurf(&[model, "--scenario", p.to_str().unwrap(), "--quiet"]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{key}: {e}");
+        assert!(
+            e.contains(&format!("{key} = 10000000000000000000"))
+                && e.contains("9223372036854775807"),
+            "{key}: {e}"
+        );
+        assert_eq!(e.trim_end().lines().count(), 1, "{key}: {e}");
+    }
+}

@@ -363,8 +363,28 @@ fn spellings(a: &clap::Arg, words: &[String]) -> Vec<String> {
     seen
 }
 
-/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`).
+/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`),
+/// at most [`MAX_SEED`] = 2^63 - 1, the largest whole number a scenario file holds (a larger
+/// one could be neither recorded nor read back).
 pub fn parse_count(s: &str) -> Result<u64, String> {
+    parse_count_at_most(s, MAX_SEED)
+}
+
+/// The words for a count above `max`, with the reason when `max` is the scenario file's limit.
+fn too_large(s: &str, max: u64) -> String {
+    if max >= MAX_SEED {
+        format!(
+            "'{s}' is too large: at most {MAX_SEED} (2^63 - 1, the largest whole number a \
+             scenario file holds)"
+        )
+    } else {
+        format!("'{s}' is too large: at most {max}")
+    }
+}
+
+/// [`parse_count`] up to the largest `u64`, for an option that checks its own range and says
+/// it (`raytrace --seed`).
+pub fn parse_whole(s: &str) -> Result<u64, String> {
     let t = s.trim();
     if let Ok(v) = t.parse::<u64>() {
         return Ok(v);
@@ -380,13 +400,22 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
-/// [`parse_count`] for an option held in a narrower type, refusing a count above `max`.
+/// [`parse_whole`] for an option held in `T`, refusing a count above `max` (and above
+/// [`MAX_SEED`], what a scenario file holds).
 fn parse_count_at_most<T: TryFrom<u64>>(s: &str, max: u64) -> Result<T, String> {
-    let v = parse_count(s)?;
+    let max = max.min(MAX_SEED);
+    let v = match parse_whole(s) {
+        Ok(v) => v,
+        // (a whole number past u64 is past the range too, which is what to say)
+        Err(_) if s.trim().parse::<f64>().is_ok_and(|x| x > max as f64) => {
+            return Err(too_large(s, max));
+        }
+        Err(e) => return Err(e),
+    };
     T::try_from(v)
         .ok()
         .filter(|_| v <= max)
-        .ok_or_else(|| format!("'{s}' is too large: at most {max}"))
+        .ok_or_else(|| too_large(s, max))
 }
 
 /// [`parse_count`] for a `usize` option.
@@ -552,7 +581,7 @@ pub fn parse_seed(s: &str) -> Result<u64, String> {
              largest a scenario file holds)"
         )
     };
-    let v = match parse_count(s) {
+    let v = match parse_whole(s) {
         Ok(v) => v,
         // (a whole number past u64 is out of the seed's range too, which is what to say)
         Err(_) if s.trim().parse::<f64>().is_ok_and(|x| x > MAX_SEED as f64) => {
@@ -885,7 +914,7 @@ pub fn legacy_format_path(f: Format, out: &[PathBuf]) -> Result<Option<PathBuf>>
 }
 
 /// Whether two output paths name the same file (as written, or once made absolute).
-fn same_path(a: &Path, b: &Path) -> bool {
+pub fn same_path(a: &Path, b: &Path) -> bool {
     if a == b {
         return true;
     }
@@ -1100,6 +1129,11 @@ fn expected_by_option(id: &str, v: &toml::Value) -> String {
         .no_binary_name(true)
         .try_get_matches_from([format!("--{long}={text}")]);
     match parsed {
+        // accepted by the option, but a whole number past what a scenario file holds
+        Ok(_) if whole_past_scenario(v) => format!(
+            "expected a whole number from 0 to {MAX_SEED} (2^63 - 1, the largest a scenario \
+             file holds)"
+        ),
         Err(e) if e.kind() == clap::error::ErrorKind::ValueValidation => match e.source() {
             Some(s) if s.is::<std::num::ParseIntError>() => {
                 "expected a whole number, 0 or more".into()
@@ -1112,6 +1146,12 @@ fn expected_by_option(id: &str, v: &toml::Value) -> String {
         },
         _ => help(),
     }
+}
+
+/// Whether `v` is a whole number above [`MAX_SEED`] (written as a float: TOML's integers stop
+/// there).
+fn whole_past_scenario(v: &toml::Value) -> bool {
+    matches!(v, toml::Value::Float(f) if f.is_finite() && f.fract() == 0.0 && *f >= MAX_SEED as f64)
 }
 
 /// Whether the subcommand has an option with this id (an optional one may be absent from the
@@ -1171,6 +1211,17 @@ mod tests {
         assert!(parse_count("-1").is_err());
         assert!(parse_count("1.5").is_err());
         assert!(parse_count("1e30").is_err());
+        // past what a scenario file holds: refused with that limit
+        for s in ["9223372036854775808", "1e19", "1e30"] {
+            let e = parse_count(s).unwrap_err();
+            assert!(
+                e.contains(s) && e.contains("at most 9223372036854775807"),
+                "{e}"
+            );
+            assert!(parse_usize(s).unwrap_err().contains("2^63 - 1"), "{s}");
+        }
+        assert_eq!(parse_count("9223372036854775807"), Ok(MAX_SEED));
+        assert_eq!(parse_whole("1e19"), Ok(10_000_000_000_000_000_000));
     }
 
     #[test]

@@ -123,7 +123,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0)]
     azimuth: f64,
     /// Seed of the generated ripple field.
-    #[arg(long, default_value_t = 1, value_parser = conv::parse_count)]
+    #[arg(long, default_value_t = 1, value_parser = conv::parse_whole)]
     seed: u64,
     /// Ray step (arc length), m.
     #[arg(long, default_value_t = 0.25)]
@@ -478,8 +478,13 @@ fn check_outputs(a: &Args, outs: &Outputs) -> Result<()> {
             );
         }
         cellsurf::engine::io::check_output(opt, p)?;
-        if let Some(&(other, _)) = outs[..i].iter().find(|(_, q)| *q == p) {
-            bail!("{opt} {}: the same file as {other}", p.display());
+        // (`z.csv`, `./z.csv` and its absolute path are one file)
+        if let Some(&(other, q)) = outs[..i].iter().find(|(_, q)| conv::same_path(q, p)) {
+            bail!(
+                "{opt} {}: the same file as {other} {}; give each output its own name",
+                p.display(),
+                q.display()
+            );
         }
     }
     Ok(())
