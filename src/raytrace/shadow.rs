@@ -211,6 +211,11 @@ pub struct Insonification {
     /// The lit stretches of the floor, sorted and disjoint, as floor positions `(s0, s1)`
     /// (`s = i + u`: fraction `u` of segment `i`; [`Seafloor::length_between`]).
     pub lit: Vec<(f64, f64)>,
+    /// Where the ray budget ran out ([`Insonification::truncated`]): the stretches of floor
+    /// between the hits of two neighbouring rays that were left unbisected, less the lit
+    /// stretches (sorted and disjoint, as [`Insonification::lit`]). Neither lit nor known to
+    /// be in shadow; empty when the run was not truncated.
+    pub unresolved: Vec<(f64, f64)>,
 }
 
 /// A piece of the floor between shadow edges ([`Insonification::spans`]).
@@ -240,7 +245,45 @@ fn merge(mut v: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     out
 }
 
+/// The parts of the sorted, disjoint stretches `a` outside the sorted, disjoint stretches `b`.
+fn subtract(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for &(mut s0, s1) in a {
+        for &(c0, c1) in b {
+            if c1 <= s0 || c0 >= s1 {
+                continue;
+            }
+            if c0 > s0 {
+                out.push((s0, c0));
+            }
+            s0 = s0.max(c1);
+        }
+        if s1 > s0 {
+            out.push((s0, s1));
+        }
+    }
+    out
+}
+
 impl Insonification {
+    /// Length of the unresolved floor, m (the union of [`Insonification::unresolved`]).
+    pub fn unresolved_length(&self, floor: &Seafloor) -> f64 {
+        self.unresolved
+            .iter()
+            .map(|&(a, b)| floor.length_between(a, b))
+            .fold(0.0, |s, l| s + l)
+    }
+
+    /// Unresolved share of the floor's length (0 to 1; 0 unless the run was truncated).
+    pub fn unresolved_fraction(&self, floor: &Seafloor) -> f64 {
+        let l = floor.length();
+        if l > 0.0 {
+            (self.unresolved_length(floor) / l).clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     /// Fraction of the vertices in `range` that are insonified (0 for an empty range).
     pub fn lit_fraction(&self, range: std::ops::Range<usize>) -> f64 {
         let n = range.len();
@@ -458,8 +501,10 @@ pub fn insonify(
         truncated: false,
         max_snell_drift: 0.0,
         lit: Vec::new(),
+        unresolved: Vec::new(),
     };
     let mut stretches = Vec::new();
+    let mut unresolved = Vec::new();
     let trace = |t: f64, out: &mut Insonification| -> Option<Hit> {
         let (x, z, a) = fan.launch(t);
         let r = tracer.trace_unchecked(x, z, a, &o);
@@ -496,6 +541,11 @@ pub fn insonify(
         }
         if out.rays >= opts.max_rays {
             out.truncated = true;
+            // (an interval with one ray off the floor bounds no stretch)
+            if let (Some(a), Some(b)) = (&ha, &hb) {
+                let (pa, pb) = (a.seg as f64 + a.u, b.seg as f64 + b.u);
+                unresolved.push((pa.min(pb), pa.max(pb)));
+            }
             continue;
         }
         let tm = 0.5 * (ta + tb);
@@ -504,6 +554,7 @@ pub fn insonify(
         stack.push((ta, ha, tm, hm, depth + 1));
     }
     out.lit = merge(stretches);
+    out.unresolved = subtract(&merge(unresolved), &out.lit);
     Ok(out)
 }
 
@@ -728,6 +779,7 @@ pub fn straight_insonify(floor: &Seafloor, light: Light, c: f64) -> Insonificati
         truncated: false,
         max_snell_drift: 0.0,
         lit: visible_stretches(floor, light, None),
+        unresolved: Vec::new(),
     }
 }
 
@@ -777,6 +829,45 @@ mod tests {
         assert_eq!(reflection_coefficient(2.0, 2.0), 0.0);
         let r = reflection_coefficient(1962.0 * 1738.0, 1027.0 * 1500.0);
         assert!((r - 0.378).abs() < 1e-3, "{r}");
+    }
+
+    #[test]
+    fn a_truncated_run_reports_the_unresolved_floor_apart_from_the_shadow() {
+        // a flat floor at 10 m in 0.25 m segments, lit from S at (0, 5) between 4 and 60 deg:
+        // every vertex in the fan is lit; 40 rays alone leave gaps of several segments
+        let xs: Vec<f64> = (0..=320).map(|i| f64::from(i) * 0.25).collect();
+        let floor = Seafloor::new(xs, vec![10.0; 321], vec![]).unwrap();
+        let p = SoundSpeed::Isovelocity(1500.0);
+        let t = Tracer::new(&p, &floor).unwrap();
+        let fan = Fan::Point {
+            x: 0.0,
+            z: 5.0,
+            min_deg: 4.0,
+            max_deg: 60.0,
+            rays: 40,
+        };
+        let mut o = InsonifyOptions::default();
+        o.trace.ds = 1.0;
+        let full = insonify(&t, &fan, &o).unwrap();
+        assert!(!full.truncated && full.unresolved.is_empty());
+        let lit = full.length_fraction(&floor);
+        assert!(lit > 0.85, "{lit}");
+        for budget in [40, 100, 200] {
+            o.max_rays = budget;
+            let cut = insonify(&t, &fan, &o).unwrap();
+            assert!(cut.truncated, "{budget}");
+            let (l, u) = (cut.length_fraction(&floor), cut.unresolved_fraction(&floor));
+            // what was not resolved is unresolved, not shadow: lit + unresolved is the lit floor
+            assert!(u > 0.0, "{budget}: {u}");
+            assert!(
+                (l + u - lit).abs() < 1e-9,
+                "{budget}: {l} + {u} against {lit}"
+            );
+            // and never overlaps the lit stretches
+            for &(a, b) in &cut.unresolved {
+                assert!(cut.lit.iter().all(|&(c, d)| d <= a || c >= b), "{a}..{b}");
+            }
+        }
     }
 
     #[test]
