@@ -7,7 +7,8 @@
 //! impedance is the top non-fill value of each column of an `impedance(y, z, x)` field, or none.
 //!
 //! A Zarr store (`cellsurf tile --out X.zarr`, feature `zarr`) is not read whole:
-//! [`ZarrSurface`] reads the chunks a section crosses as it goes.
+//! [`ZarrSurface`] reads the chunks a section crosses as it goes. A ripple run's store
+//! (`cellsurf ripple --out X.zarr`) is read whole, as its NetCDF file is: [`read_ripple_store`].
 //!
 //! Errors are short: an I/O error's message, or what is wrong with the file, never its bytes.
 
@@ -182,6 +183,101 @@ pub fn read_surface(path: &Path) -> Result<(RippleSurface, SurfaceKind), Raytrac
     ))
 }
 
+/// The surface of a ripple run's Zarr store (`cellsurf ripple --out X.zarr`,
+/// [`crate::ripple::zarr`]): its last elevation snapshot, `elevation(time, y, x)`, and, when
+/// the store has the field, the top non-NaN value of each column of `impedance(z, y, x)`: the
+/// surface [`RippleSurface::from_file`] reads from the NetCDF file of the same run. `None`
+/// for a store without `elevation(time, y, x)` (a tile store, [`ZarrSurface`]).
+#[cfg(feature = "zarr")]
+pub fn read_ripple_store(path: &Path) -> Result<Option<RippleSurface>, RaytraceError> {
+    let store = crate::engine::zarr::Store::open(path).map_err(|e| err(path, e))?;
+    let Some(spec) = store
+        .spec("elevation")
+        .filter(|s| s.dims == ["time", "y", "x"])
+        .cloned()
+    else {
+        return Ok(None);
+    };
+    let [nt, ny, nx] = [0, 1, 2].map(|k| spec.shape[k] as usize);
+    if nt == 0 {
+        return Err(err(
+            path,
+            "no elevation snapshot (write it with --fields elevation,...)",
+        ));
+    }
+    if nx == 0 || ny == 0 {
+        return Err(err(path, format!("empty surface ({nx} x {ny})")));
+    }
+    if nx.saturating_mul(ny) > MAX_MOSAIC_CELLS {
+        return Err(err(
+            path,
+            format!("surface of {nx} x {ny} cells: at most {MAX_MOSAIC_CELLS} can be read"),
+        ));
+    }
+    if spec.chunks != [1, ny as u64, nx as u64] {
+        return Err(err(
+            path,
+            "elevation is not one chunk a snapshot, as `cellsurf ripple` writes it",
+        ));
+    }
+    let attrs = store.attributes().map_err(|e| err(path, e))?;
+    let bin = attrs
+        .get("bin_size_m")
+        .and_then(|v| v.as_f64())
+        .unwrap_or(f64::NAN);
+    if !(bin.is_finite() && bin > 0.0) {
+        return Err(err(
+            path,
+            format!("bin size {bin} m (attribute 'bin_size_m')"),
+        ));
+    }
+    let elev = store
+        .read_chunk_f32("elevation", &[nt as u64 - 1, 0, 0])
+        .map_err(|e| err(path, e))?;
+    if elev.len() != nx * ny || elev.iter().any(|v| !v.is_finite()) {
+        return Err(err(path, "the last elevation snapshot is incomplete"));
+    }
+    let vol = store
+        .spec("impedance")
+        .filter(|s| {
+            s.dims == ["z", "y", "x"]
+                && s.shape[1..] == [ny as u64, nx as u64]
+                && s.chunks[0] == s.shape[0]
+                && s.chunks[2] == nx as u64
+                && s.chunks[1] > 0
+        })
+        .cloned();
+    let mut impedance = Vec::new();
+    if let Some(v) = vol {
+        let (nz, rows) = (v.shape[0] as usize, v.chunks[1] as usize);
+        impedance.reserve(nx * ny);
+        for (j, y0) in (0..ny).step_by(rows).enumerate() {
+            let chunk = store
+                .read_chunk_f32("impedance", &[0, j as u64, 0])
+                .map_err(|e| err(path, format!("impedance: {e}")))?;
+            if chunk.len() != nz * rows * nx {
+                return Err(err(path, "impedance has the wrong size"));
+            }
+            for dy in 0..rows.min(ny - y0) {
+                impedance.extend((0..nx).map(|x| {
+                    (0..nz)
+                        .rev()
+                        .map(|z| chunk[(z * rows + dy) * nx + x])
+                        .find(|v| v.is_finite())
+                        .map(f64::from)
+                }));
+            }
+        }
+    }
+    Ok(Some(RippleSurface {
+        nx,
+        ny,
+        bin,
+        elevation: elev.iter().map(|&v| f64::from(v)).collect(),
+        impedance,
+    }))
+}
+
 /// A Zarr store written by `cellsurf tile --out X.zarr` ([`crate::engine::zarr`]) read chunk by
 /// chunk as a section goes: `elevation(y, x)` (m) and, when the store has it, the top
 /// non-NaN value of each column of `impedance(y, z, x)`. Only the chunks that the section's
@@ -215,7 +311,13 @@ impl ZarrSurface {
         let spec = store
             .spec("elevation")
             .filter(|s| s.dims == ["y", "x"])
-            .ok_or_else(|| err(path, "no 'elevation(y, x)' array: not a tile store"))?
+            .ok_or_else(|| {
+                err(
+                    path,
+                    "no 'elevation(y, x)' array (a tile store, `cellsurf tile --out X.zarr`) \
+                     nor 'elevation(time, y, x)' (a ripple store, `cellsurf ripple --out X.zarr`)",
+                )
+            })?
             .clone();
         let (ny, nx) = (spec.shape[0] as usize, spec.shape[1] as usize);
         let chunk = (spec.chunks[1] as usize, spec.chunks[0] as usize);
