@@ -883,6 +883,164 @@ fn one_file_named_twice_in_other_spellings_is_refused_before_the_run() {
     }
 }
 
+/// A run whose ray budget (`--max-rays`) runs out says so on stderr, records the budget and the
+/// truncation in its files and JSON, and counts the floor it did not resolve apart from the
+/// shadow.
+#[test]
+fn an_exhausted_ray_budget_is_warned_of_recorded_and_not_called_shadow() {
+    let run = |budget: Option<&str>, quiet: bool, out: &PathBuf| {
+        let mut a = vec![
+            "raytrace",
+            "--length",
+            "10",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if let Some(b) = budget {
+            a.extend(["--max-rays", b]);
+        }
+        if quiet {
+            a.push("--quiet");
+        }
+        let o = cellsurf(&a);
+        let e = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{e}");
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v, e, std::fs::read_to_string(out).unwrap())
+    };
+    let (full, e, text) = run(None, false, &tmp("budget_full.csv"));
+    assert!(!e.contains("warning"), "{e}");
+    assert_eq!(full["truncated"], false);
+    assert_eq!(full["unresolved_fraction"], 0.0);
+    assert!(text.contains("# max_rays = 2000000\n"), "{text}");
+    assert!(text.contains("# truncated = false\n"), "{text}");
+    let lit = full["insonified_fraction"].as_f64().unwrap();
+    assert!(lit > 0.3, "{full}");
+    for budget in ["250", "1000"] {
+        let (v, e, text) = run(Some(budget), false, &tmp("budget_cut.csv"));
+        assert!(
+            e.contains(&format!(
+                "warning: the ray budget ran out (--max-rays = {budget})"
+            )) && e.contains("truncated"),
+            "{e}"
+        );
+        assert_eq!(v["truncated"], true, "{v}");
+        assert!(text.contains(&format!("# max_rays = {budget}\n")), "{text}");
+        assert!(text.contains("# truncated = true\n"), "{text}");
+        assert!(text.contains("# unresolved_fraction = "), "{text}");
+        let f = |k: &str| v[k].as_f64().unwrap();
+        let (l, s, u) = (
+            f("insonified_fraction"),
+            f("shadowed_fraction"),
+            f("unresolved_fraction"),
+        );
+        assert!(u > 0.0, "{v}");
+        assert!((l + s + u - 1.0).abs() < 1e-9, "{v}");
+        // the floor left unresolved is not called shadow: the shadow is at most the
+        // complete run's
+        assert!(s <= 1.0 - lit + 1e-9, "{s} against {}", 1.0 - lit);
+        // --quiet: no warning, the same record
+        let (_, e, _) = run(Some(budget), true, &tmp("budget_quiet.csv"));
+        assert!(e.is_empty(), "{e}");
+    }
+}
+
+/// An opening with its centre is recorded as the fan it gives (the parameters, the scenario
+/// printed, the files' headers); a scenario with both an opening and limits of its own is
+/// refused naming the keys, as the command line refuses both.
+#[test]
+fn the_fan_of_an_opening_is_recorded_and_a_scenario_with_both_fans_is_refused() {
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--opening",
+        "20",
+        "--centre-angle",
+        "10",
+        "--json",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([0.0, 20.0]));
+    assert_eq!(v["parameters"]["angle_min"], 0.0, "{v}");
+    assert_eq!(v["parameters"]["angle_max"], 20.0, "{v}");
+    let o = cellsurf(&[
+        "raytrace",
+        "--opening",
+        "20",
+        "--centre-angle",
+        "10",
+        "--print-scenario",
+    ]);
+    let sc = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        sc.contains("angle_min = 0.0") && sc.contains("angle_max = 20.0"),
+        "{sc}"
+    );
+    // the printed scenario runs the same fan
+    let p = tmp("fan_printed.toml");
+    std::fs::write(&p, &sc).unwrap();
+    let o = cellsurf(&[
+        "raytrace",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--length",
+        "2",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([0.0, 20.0]));
+    // both fans in one scenario: refused, naming the keys
+    for (extra, want) in [
+        (
+            "angle_min = 5.0\nangle_max = 8.0\n",
+            "angle_min = 5 and angle_max = 8 given with opening = 20 and centre_angle = 10",
+        ),
+        ("angle_min = 30\n", "angle_min = 30 given with opening = 20"),
+    ] {
+        let p = tmp("fan_both.toml");
+        std::fs::write(
+            &p,
+            format!("model = \"raytrace\"\nopening = 20.0\ncentre_angle = 10\n{extra}"),
+        )
+        .unwrap();
+        let o = cellsurf(&[
+            "raytrace",
+            "--scenario",
+            p.to_str().unwrap(),
+            "--length",
+            "2",
+        ]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(e.contains(want) && e.contains("give either opening"), "{e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    }
+    // an opening with the default limits (as older cellsurf printed it): the opening's fan
+    let p = tmp("fan_old.toml");
+    std::fs::write(
+        &p,
+        "model = \"raytrace\"\nangle_min = 1.5\nangle_max = 25.0\nopening = 20.0\ncentre_angle = 10\n",
+    )
+    .unwrap();
+    let o = cellsurf(&[
+        "raytrace",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--length",
+        "2",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["run"]["angles_deg"], serde_json::json!([0.0, 20.0]));
+    assert_eq!(v["parameters"]["angle_max"], 20.0, "{v}");
+}
+
 /// A whole-number option past what its type or a scenario file holds is refused naming the
 /// option, the value and the range, on the command line and in a scenario file.
 #[test]
@@ -925,4 +1083,209 @@ fn whole_numbers_past_their_type_are_refused_by_name_and_range() {
         );
         assert_eq!(e.trim_end().lines().count(), 1, "{key}: {e}");
     }
+}
+
+/// `--straight` traces no rays (without `--rays-csv`): the tracer's options given are warned
+/// of by name, not recorded as used, and not range-checked; with `--rays-csv` only
+/// `--max-rays` has no effect.
+#[test]
+fn tracer_options_without_effect_under_straight_are_warned_of() {
+    let out = tmp("straight_unused.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--straight",
+        "--ds",
+        "1e9",
+        "--max-bounces",
+        "0",
+        "--max-path",
+        "50",
+        "--max-rays",
+        "300",
+        "--rays",
+        "250",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains(
+            "warning: --rays, --ds, --max-bounces, --max-path, --max-rays have no effect with --straight"
+        ),
+        "{e}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    for k in [
+        "# rays",
+        "# ds_m",
+        "# max_bounces",
+        "# max_path_m",
+        "# max_rays",
+    ] {
+        assert!(!text.contains(k), "{k}: {text}");
+    }
+    assert!(text.contains("# mode = straight"), "{text}");
+    // without them: no warning, the same data
+    let plain = tmp("straight_plain.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--straight",
+        "--out",
+        plain.to_str().unwrap(),
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+    let data = |p: &PathBuf| {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(data(&out), data(&plain));
+    // with --rays-csv the fan is traced: only the budget has no effect
+    let rays = tmp("straight_rays.csv");
+    let o = cellsurf(&[
+        "raytrace",
+        "--length",
+        "2",
+        "--straight",
+        "--rays",
+        "5",
+        "--max-rays",
+        "300",
+        "--rays-csv",
+        rays.to_str().unwrap(),
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("warning: --max-rays has no effect with --straight") && !e.contains("--rays,"),
+        "{e}"
+    );
+    assert!(
+        std::fs::read_to_string(&rays)
+            .unwrap()
+            .contains("# rays = 5")
+    );
+}
+
+/// A table's errors name the option and the file it came from.
+#[test]
+fn table_errors_name_the_option_and_the_file() {
+    let write = |name: &str, text: &str| {
+        let p = tmp(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let hot = write("hot.csv", "0,20\n20,31\n");
+    let junk = write("tjunk.csv", "0,20\n20,x\n");
+    let shallow_s = write("salshallow.csv", "0,35\n5,35\n");
+    let shallow_p = write("ssp_shallow.csv", "0,1500\n5,1500\n");
+    let temp = "tests/fixtures/temperature.csv";
+    let m = ["--profile", "mackenzie"];
+    let cases: Vec<(Vec<&str>, Vec<String>)> = vec![
+        (
+            [&m[..], &["--temperature-table", &hot]].concat(),
+            vec![format!(
+                "in --temperature-table {hot}: temperature table value (row 2) = 31"
+            )],
+        ),
+        (
+            [&m[..], &["--temperature-table", &junk]].concat(),
+            vec![format!(
+                "in --temperature-table {junk}: temperature table: line 2"
+            )],
+        ),
+        (
+            [
+                &m[..],
+                &["--temperature-table", temp, "--salinity-table", &shallow_s],
+            ]
+            .concat(),
+            vec![format!(
+                "in --salinity-table {shallow_s}: salinity table last depth = 5"
+            )],
+        ),
+        (
+            vec!["--profile", "table", "--profile-table", &shallow_p],
+            vec![format!(
+                "in --profile-table {shallow_p}: profile table last depth = 5"
+            )],
+        ),
+    ];
+    for (args, want) in cases {
+        let want: Vec<&str> = want.iter().map(String::as_str).collect();
+        refused(&args, &want);
+    }
+}
+
+/// A ripple run's Zarr store is a seafloor as its NetCDF file is: the same section.
+#[test]
+fn a_ripple_netcdf_file_and_its_zarr_store_give_the_same_section() {
+    let (nc, zarr) = (tmp("ripple_bed.nc"), tmp("ripple_bed.zarr"));
+    let _ = std::fs::remove_dir_all(&zarr);
+    for out in [&nc, &zarr] {
+        let o = cellsurf(&[
+            "ripple",
+            "--size",
+            "32x16",
+            "--layers",
+            "10",
+            "--steps",
+            "200",
+            "--fields",
+            "elevation,impedance",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let section = |from: &PathBuf, name: &str| {
+        let out = tmp(name);
+        let o = cellsurf(&[
+            "raytrace",
+            "--seafloor",
+            from.to_str().unwrap(),
+            "--length",
+            "1",
+            "--azimuth",
+            "20",
+            "--water-depth",
+            "1",
+            "--source-depth",
+            "0.5",
+            "--json",
+            "--quiet",
+            "--seafloor-csv-out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let rows = std::fs::read_to_string(out)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(String::from)
+            .collect::<Vec<_>>();
+        (v["insonified_fraction"].clone(), rows)
+    };
+    let (a, b) = (
+        section(&nc, "ripple_bed_nc.csv"),
+        section(&zarr, "ripple_bed_zarr.csv"),
+    );
+    assert!(a.1.len() > 50, "{}", a.1.len());
+    // the impedance of each column's top automaton, from both
+    assert!(
+        a.1[1].split(',').nth(2).is_some_and(|z| !z.is_empty()),
+        "{:?}",
+        a.1[1]
+    );
+    assert_eq!(a, b);
 }

@@ -20,13 +20,13 @@ use serde::{Deserialize, Serialize};
 use super::conv::{self, Format, Outputs};
 
 use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
-use cellsurf::raytrace::input::ZarrSurface;
+use cellsurf::raytrace::input::{ZarrSurface, read_ripple_store};
 use cellsurf::raytrace::profile::{Mackenzie, SalinitySource};
 use cellsurf::raytrace::seafloor::{MAX_SECTION_SAMPLES, cut_section};
 use cellsurf::raytrace::shadow::straight_insonify_fan;
 use cellsurf::raytrace::{
-    Fan, InsonifyOptions, Munk, RippleSurface, Seafloor, SectionLine, SoundSpeed, TraceOptions,
-    Tracer, insonify,
+    Fan, InsonifyOptions, Munk, RaytraceError, RippleSurface, Seafloor, SectionLine, SoundSpeed,
+    TraceOptions, Tracer, insonify,
 };
 
 /// Sound-speed profile kinds.
@@ -200,9 +200,36 @@ fn profile(a: &Args) -> Result<SoundSpeed> {
                 }
                 None => SalinitySource::Constant(a.salinity),
             };
-            SoundSpeed::Mackenzie(Mackenzie::parse(&t_text, s)?)
+            SoundSpeed::Mackenzie(Mackenzie::parse(&t_text, s).map_err(|e| in_table(a, e))?)
         }
     })
+}
+
+/// An error about a table (its value, its format, or its last depth against the floor) with the
+/// option and file it was read from, `in --temperature-table FILE: ...`; others as they are.
+fn in_table(a: &Args, e: RaytraceError) -> anyhow::Error {
+    let name = match &e {
+        RaytraceError::Range { parameter, .. } => parameter.as_str(),
+        RaytraceError::Input { what, .. } => what.as_str(),
+        RaytraceError::Output { .. } => "",
+    };
+    let tables = [
+        ("profile table", "profile_table", &a.profile_table),
+        (
+            "temperature table",
+            "temperature_table",
+            &a.temperature_table,
+        ),
+        ("salinity table", "salinity_table", &a.salinity_table),
+    ];
+    match tables.into_iter().find(|(n, _, _)| name.starts_with(n)) {
+        Some((_, id, Some(p))) => anyhow::Error::new(e).context(format!(
+            "in {} {}",
+            conv::typed_flag(id).unwrap_or_default(),
+            p.display()
+        )),
+        _ => e.into(),
+    }
 }
 
 /// Bytes a section of --length cut at `spacing` m allocates, with the rays traced over it:
@@ -281,6 +308,16 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         p.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
     }) {
+        // a ripple run's store is read whole, as its NetCDF file
+        if let Some(surf) = read_ripple_store(p).context("reading --seafloor")? {
+            check_section_memory(a, surf.bin)?;
+            let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);
+            return Ok((
+                surf.grid().section(line, a.water_depth, 0.0)?,
+                "ripple store",
+                None,
+            ));
+        }
         let mut z = ZarrSurface::open(p).context("reading --seafloor")?;
         let (_, ny, bin) = z.shape();
         check_section_memory(a, bin)?;
@@ -299,6 +336,36 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
     check_section_memory(a, surf.bin)?;
     let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);
     Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
+}
+
+/// Warns of the tracer's options given (typed, or set by a scenario file) that have no effect
+/// with `--straight`, each named as typed.
+fn straight_unused(a: &Args, options: &[(&str, &str)]) {
+    let set = |id: &str| match id {
+        "rays" => conv::set_by_scenario(id, &a.rays.to_string()),
+        "ds" => conv::set_by_scenario(id, &a.ds.to_string()),
+        "max_bounces" => conv::set_by_scenario(id, &a.max_bounces.to_string()),
+        "max_path" => a.max_path.is_some() && conv::set_by_scenario(id, "set"),
+        _ => conv::set_by_scenario(id, &a.max_rays.to_string()),
+    };
+    let given = conv::given_flags(
+        &options
+            .iter()
+            .map(|&(id, long)| (id, long, conv::typed(id) || set(id)))
+            .collect::<Vec<_>>(),
+    );
+    if !given.is_empty() {
+        conv::note(format_args!(
+            "warning: {} {} no effect with --straight: {}",
+            given.join(", "),
+            if given.len() == 1 { "has" } else { "have" },
+            if a.rays_csv.is_some() {
+                "straight lines are not traced ray by ray (only --rays-csv traces its fan, and it has no budget)"
+            } else {
+                "straight lines are not traced ray by ray (only --rays-csv would trace the fan)"
+            }
+        ));
+    }
 }
 
 /// `--flag = value` for an option, marked `(default)` when the user did not type it.
@@ -353,6 +420,39 @@ fn fan_angles(a: &Args) -> Result<(f64, f64)> {
         }
         _ => bail!("--opening and --centre-angle go together"),
     }
+}
+
+/// A scenario file that gives both fans, an opening (with its centre) and limits away from
+/// their defaults: refused naming the keys, as the command line refuses `--opening` with
+/// `--angle-min`. (Limits typed on the command line replace a scenario's opening, and a typed
+/// opening its limits: those are settled before this.)
+fn check_scenario_fan(a: &Args, scenario: Option<&Path>) -> Result<()> {
+    let Some(path) = scenario else {
+        return Ok(());
+    };
+    if conv::typed("opening") || conv::typed("centre_angle") {
+        return Ok(());
+    }
+    let opening: Vec<String> = [("opening", a.opening), ("centre_angle", a.centre_angle)]
+        .into_iter()
+        .filter_map(|(k, v)| v.map(|v| format!("{k} = {v}")))
+        .collect();
+    let limits: Vec<String> = [("angle_min", a.angle_min), ("angle_max", a.angle_max)]
+        .into_iter()
+        .filter(|(k, v)| conv::set_by_scenario(k, &v.to_string()))
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect();
+    if !opening.is_empty() && !limits.is_empty() {
+        bail!(
+            "{} {}: {} given with {}: give either opening with centre_angle, or \
+             angle_min/angle_max (one fan), as on the command line",
+            conv::typed_flag("scenario").unwrap_or_else(|| "--scenario".into()),
+            path.display(),
+            limits.join(" and "),
+            opening.join(" and ")
+        );
+    }
+    Ok(())
 }
 
 /// Options of one sound-speed profile given with another, and `--salinity` with
@@ -524,7 +624,16 @@ pub fn run(a: Args) -> Result<()> {
         a.opening = None;
         a.centre_angle = None;
     }
+    check_scenario_fan(&a, scenario.as_deref())?;
     check_seed(&a)?;
+    // the fan as used, recorded by its limits: an opening and centre become the two limits
+    // (the parameters, the scenario printed and the files' headers say the angles that shaped
+    // the run, never the unused default limits)
+    let (amin, amax) = fan_angles(&a)?;
+    if a.opening.is_some() {
+        (a.angle_min, a.angle_max) = (amin, amax);
+        (a.opening, a.centre_angle) = (None, None);
+    }
     if a.print_scenario {
         out!("{}", conv::scenario_text(&a, "raytrace")?)?;
         return Ok(());
@@ -534,15 +643,32 @@ pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
     check_outputs(&a, &outs)?;
     check_profile_options(&a)?;
-    let (amin, amax) = fan_angles(&a)?;
     let prof = profile(&a)?;
     let (fl, kind, chunks_read) = floor(&a)?;
-    let tracer = Tracer::new(&prof, &fl)?;
+    let tracer = Tracer::new(&prof, &fl).map_err(|e| in_table(&a, e))?;
     check_source(&a, &fl)?;
     let (x0, x1) = fl.x_range();
     let max_path = a.max_path.unwrap_or(3.0 * (x1 - x0 + fl.max_depth()));
+    // The tracer's options: with --straight only --rays-csv traces rays (the fan's --rays,
+    // --ds, --max-path and --max-bounces), and nothing uses --max-rays. Those without effect
+    // are said once, neither checked nor recorded as if they shaped the run.
+    let traced = !a.straight || a.rays_csv.is_some();
+    if a.straight {
+        let tracer_options: &[(&str, &str)] = if traced {
+            &[("max_rays", "--max-rays")]
+        } else {
+            &[
+                ("rays", "--rays"),
+                ("ds", "--ds"),
+                ("max_bounces", "--max-bounces"),
+                ("max_path", "--max-path"),
+                ("max_rays", "--max-rays"),
+            ]
+        };
+        straight_unused(&a, tracer_options);
+    }
     // A step longer than the longest path: --ds is the cause where --max-path is the default.
-    if a.max_path.is_none() && a.ds > max_path {
+    if traced && a.max_path.is_none() && a.ds > max_path {
         bail!(
             "--ds = {} m is out of range: expected at most the longest ray path, {} m here (--max-path's default, 3 x (the floor's length + its greatest depth)); give a smaller --ds or a --max-path",
             a.ds,
@@ -572,8 +698,20 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let ins = if a.straight {
-        fan.validate(&tracer)?;
-        trace.validate()?;
+        if traced {
+            fan.validate(&tracer)?;
+            trace.validate()?;
+        } else {
+            // the fan's angles and source (its number of rays has no effect here)
+            Fan::Point {
+                x: a.source_range,
+                z: a.source_depth,
+                min_deg: amin,
+                max_deg: amax,
+                rays: 2,
+            }
+            .validate(&tracer)?;
+        }
         let c = prof.speed(a.source_depth);
         straight_insonify_fan(&fl, a.source_range, a.source_depth, amin, amax, c)
     } else {
@@ -584,6 +722,16 @@ pub fn run(a: Args) -> Result<()> {
         };
         insonify(&tracer, &fan, &o)?
     };
+    let unresolved = ins.unresolved_fraction(&fl);
+    if ins.truncated {
+        conv::note(format_args!(
+            "warning: the ray budget ran out ({}): the result is truncated; {:.1} % of the \
+             floor's length lies between rays whose shadow edges were not resolved, counted \
+             as unresolved (neither insonified nor shadowed); raise --max-rays",
+            flag("max_rays", a.max_rays as f64),
+            unresolved * 100.0
+        ));
+    }
     if ins.max_snell_drift > SNELL_DRIFT_WARN {
         conv::note(format_args!(
             "warning: the Snell invariant cos(theta) / c drifted by {:.1e} along the rays (more than {SNELL_DRIFT_WARN:.0e}): the integration is inaccurate at {}; give a smaller --ds",
@@ -609,23 +757,37 @@ pub fn run(a: Args) -> Result<()> {
     if a.profile == ProfileKind::Mackenzie && a.salinity_table.is_none() {
         params.push(("salinity_ppt".into(), a.salinity.to_string()));
     }
-    params.extend::<[(String, String); 8]>([
+    params.extend::<[(String, String); 3]>([
         ("source_range_m".into(), a.source_range.to_string()),
         ("source_depth_m".into(), a.source_depth.to_string()),
         ("angles_deg".into(), format!("{amin} to {amax}")),
-        ("rays".into(), a.rays.to_string()),
-        ("ds_m".into(), a.ds.to_string()),
-        ("max_bounces".into(), a.max_bounces.to_string()),
-        ("max_path_m".into(), max_path.to_string()),
-        (
-            "mode".into(),
-            if a.straight {
-                "straight".into()
-            } else {
-                "rays".into()
-            },
-        ),
     ]);
+    if traced {
+        params.extend::<[(String, String); 4]>([
+            ("rays".into(), a.rays.to_string()),
+            ("ds_m".into(), a.ds.to_string()),
+            ("max_bounces".into(), a.max_bounces.to_string()),
+            ("max_path_m".into(), max_path.to_string()),
+        ]);
+    }
+    if a.straight {
+        params.push(("mode".into(), "straight".into()));
+    } else {
+        params.extend::<[(String, String); 3]>([
+            ("mode".into(), "rays".into()),
+            ("max_rays".into(), a.max_rays.to_string()),
+            ("truncated".into(), ins.truncated.to_string()),
+        ]);
+        if ins.truncated {
+            params.push((
+                "unresolved_fraction".into(),
+                format!(
+                    "{unresolved} (the ray budget ran out: the floor between rays whose \
+                     shadow edges were not resolved, its vertices written as not insonified)"
+                ),
+            ));
+        }
+    }
     match (&a.seafloor_csv, &a.seafloor) {
         (Some(p), _) => params.push(("seafloor".into(), format!("csv {}", p.display()))),
         (None, Some(p)) => params.push((
@@ -690,6 +852,7 @@ pub fn run(a: Args) -> Result<()> {
     let lit = ins.length_fraction(&fl);
     let lit_m = ins.lit_length(&fl);
     let floor_m = fl.length();
+    let unresolved_m = ins.unresolved_length(&fl);
     let spans = ins.spans(&fl);
     if a.json {
         let own = serde_json::json!({
@@ -700,9 +863,11 @@ pub fn run(a: Args) -> Result<()> {
             "shadow_edges": ins.edges,
             "truncated": ins.truncated,
             "insonified_fraction": lit,
-            "shadowed_fraction": 1.0 - lit,
+            "shadowed_fraction": (1.0 - lit - unresolved).max(0.0),
+            "unresolved_fraction": unresolved,
             "lit_length_m": lit_m,
-            "shadowed_length_m": (floor_m - lit_m).max(0.0),
+            "shadowed_length_m": (floor_m - lit_m - unresolved_m).max(0.0),
+            "unresolved_length_m": unresolved_m,
             "floor_length_m": floor_m,
             "lit_spans": spans.iter().filter(|s| s.lit).count(),
             "shadowed_spans": spans.iter().filter(|s| !s.lit).count(),
@@ -711,7 +876,8 @@ pub fn run(a: Args) -> Result<()> {
             "max_snell_drift": ins.max_snell_drift,
             "run": {
                 "angles_deg": [amin, amax],
-                "max_path_m": max_path,
+                "max_path_m": traced.then_some(max_path),
+                "max_rays": (!a.straight).then_some(a.max_rays),
                 "seafloor": params.iter().find(|(k, _)| k == "seafloor").map(|(_, v)| v),
                 "profile": prof.describe(),
             },
@@ -720,18 +886,23 @@ pub fn run(a: Args) -> Result<()> {
         outln!("{}", serde_json::to_string(&v)?)?;
     } else {
         outln!(
-            "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} % of {floor_m:.2} m ({lit_m:.2} m lit, {} lit stretches), shadowed {:.1} %, max Snell drift {:.1e}, {elapsed:.2} s",
+            "raytrace: {} floor vertices, {} rays ({} shadow edges{}), insonified {:.1} % of {floor_m:.2} m ({lit_m:.2} m lit, {} lit stretches), shadowed {:.1} %{}, max Snell drift {:.1e}, {elapsed:.2} s",
             fl.len(),
             ins.rays,
             ins.edges,
             if ins.truncated {
-                ", ray budget exhausted"
+                ", ray budget exhausted: truncated"
             } else {
                 ""
             },
             lit * 100.0,
             spans.iter().filter(|s| s.lit).count(),
-            (1.0 - lit) * 100.0,
+            (1.0 - lit - unresolved).max(0.0) * 100.0,
+            if ins.truncated {
+                format!(", unresolved {:.1} %", unresolved * 100.0)
+            } else {
+                String::new()
+            },
             ins.max_snell_drift
         )?;
     }
