@@ -6,7 +6,8 @@
 //! The floor is a section through the built-in generated ripple field (a 3-D ripple run, seed
 //! `--seed`, tiled along the section) or through a ripple NetCDF file (`--seafloor`),
 //! `--water-depth` below the surface, or a `--seafloor-csv` file; a Zarr store from
-//! `cellsurf tile --out X.zarr` is read chunk by chunk along the section, never whole.
+//! `cellsurf tile --out X.zarr` is read chunk by chunk along the section, never whole, and one
+//! from `cellsurf ripple --out X.zarr` whole, as the run's NetCDF file.
 //!
 //! `insonified_fraction` is the lit share of the floor's length (lit stretches between the
 //! shadow edges), whatever the vertex spacing; `vertex_insonified_fraction` counts vertices.
@@ -112,7 +113,8 @@ pub struct Args {
     /// top-automaton impedance) or a mosaic (`cellsurf tile --out`: its elevation and, with
     /// `--volume impedance`, the top impedance), cut like the generated field (--azimuth,
     /// --length). A Zarr store (`cellsurf tile --out X.zarr`) is read chunk by chunk: only
-    /// the chunks the section crosses.
+    /// the chunks the section crosses; a ripple run's store (`cellsurf ripple --out X.zarr`)
+    /// is read whole, as its NetCDF file.
     #[arg(long, value_name = "FILE.nc|STORE.zarr")]
     seafloor: Option<PathBuf>,
     /// Length of the section through the generated ripple mosaic, m: at most 1e6 m and 2e7
