@@ -9,8 +9,9 @@
 mod common;
 
 use cellsurf::dunes::{
-    BODY_THRESHOLD, DuneConfig, DuneError, DuneModel, GRAINS_PER_UNIT, Mode, PickEvent,
-    above_threshold, bodies, jump_length, ripple_jump, rolling_rule, sand_quantity, to_grains,
+    BODY_THRESHOLD, DuneConfig, DuneError, DuneModel, GRAINS_PER_UNIT, Mode, PickEvent, Pile,
+    Start, above_threshold, bodies, gaussian_pile, jump_length, ripple_jump, rolling_rule,
+    sand_quantity, to_grains,
 };
 use cellsurf::engine::lattice::{Boundary, Lattice, Neighbourhood};
 
@@ -458,6 +459,52 @@ fn one_pile_becomes_a_barchan_with_its_horns_downwind() {
     );
 }
 
+/// The default pile is the `dunes_barchan` figure's (centre at N/3, N/2 on its grid of 100, 6
+/// cell widths high, radius 12); a run from a pile conserves sand after every iteration in
+/// every mode; a random start is `DuneModel::new`, bit for bit; a bad pile is refused by name.
+#[test]
+fn a_pile_start_is_the_figures_pile_and_conserves_sand() {
+    assert_eq!(
+        Pile::DEFAULT.grains(100),
+        gaussian_pile(100, 100.0 / 3.0, 50.0, 6.0, 12.0)
+    );
+    let pile = Start::Pile(Pile::new(&[0.5, 0.25], 4.0, 6.0).unwrap());
+    for mode in [Mode::Ripple, Mode::Dune, Mode::Werner] {
+        let c = cfg(mode, 32, 30, 1.0, 5);
+        let mut m = DuneModel::with_start(&c, &pile).unwrap();
+        let before: u64 = m.grains().iter().sum();
+        assert!(before > 0, "{mode}: the pile holds sand");
+        assert_eq!(
+            m.grains()[8 * 32 + 16],
+            *m.grains().iter().max().unwrap(),
+            "{mode}: the pile's top is at (0.5 N, 0.25 N)"
+        );
+        for _ in 0..c.iterations {
+            m.step();
+            assert_eq!(m.grains().iter().sum::<u64>(), before, "{mode}");
+        }
+        assert_eq!(m.stats().sand_change, 0, "{mode}");
+    }
+    for mode in [Mode::Ripple, Mode::Dune, Mode::Werner] {
+        let c = cfg(mode, 24, 5, 2.0, 7);
+        let (mut a, mut b) = (
+            DuneModel::new(&c).unwrap(),
+            DuneModel::with_start(&c, &Start::Random).unwrap(),
+        );
+        a.run_to_end();
+        b.run_to_end();
+        assert_eq!(a.grains(), b.grains(), "{mode}");
+    }
+    let bad = Start::Pile(Pile {
+        height: -1.0,
+        ..Pile::DEFAULT
+    });
+    let e = DuneModel::with_start(&cfg(Mode::Dune, 24, 5, 1.0, 1), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("pile_height = -1 is out of range"), "{e}");
+}
+
 // ---------------------------------------------------------------------------------------
 // The Werner variant
 
@@ -810,6 +857,17 @@ mod cli {
             &["--size", "24", "--steps", "20", "--seed", "3"][..],
             &["--dune", "--quantity", "2", "--size", "24", "--steps", "20"][..],
             &["--variant", "werner", "--size", "24", "--steps", "20"][..],
+            &[
+                "--dune",
+                "--start",
+                "pile",
+                "--pile-radius",
+                "5",
+                "--size",
+                "24",
+                "--steps",
+                "20",
+            ][..],
         ]
         .into_iter()
         .enumerate()
@@ -821,6 +879,128 @@ mod cli {
             );
             assert!(a == b, "{args:?}: the PNGs differ");
         }
+    }
+
+    /// The pile's options: a value out of range is refused naming the flag, the value and the
+    /// range; typed without `--start pile` they are refused, and so is `-q` with it (the pile
+    /// replaces the random heights); a scenario's values of them are warned of instead. A
+    /// random start's scenario has no pile keys (the same PNG parameters as before).
+    #[test]
+    fn pile_options_are_checked_and_refused_where_unused() {
+        let pile = [
+            "dunes", "-d", "--size", "16", "--steps", "2", "--start", "pile",
+        ];
+        for (extra, want) in [
+            (
+                &["--pile-height", "-1"][..],
+                "--pile-height = -1 is out of range: expected above 0",
+            ),
+            (
+                &["--pile-height", "NaN"],
+                "--pile-height = NaN is out of range",
+            ),
+            (
+                &["--pile-radius", "0"],
+                "--pile-radius = 0 is out of range: expected above 0",
+            ),
+            (&["--pile-radius", "5000"], "at most 4096 cells"),
+            (
+                &["--pile-centre", "1.5,0.5"],
+                "--pile-centre = 1.5,0.5 is out of range: expected X,Y",
+            ),
+            (
+                &["--pile-centre", "0.5"],
+                "--pile-centre = 0.5 is out of range",
+            ),
+            (
+                &["-q", "2"],
+                "-q applies to --start random (the pile replaces the random heights), not to --start pile",
+            ),
+        ] {
+            let mut args = pile.to_vec();
+            args.extend(extra);
+            let out = cellsurf(&args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && err.contains(want),
+                "{args:?}: {err}"
+            );
+        }
+        for (args, want) in [
+            (
+                &["dunes", "-d", "--pile-height", "3"][..],
+                "--pile-height applies to --start pile, not to --start random",
+            ),
+            (
+                &["dunes", "--start", "random", "--pile-centre", "0.5,0.5"],
+                "--pile-centre applies to --start pile",
+            ),
+            (&["dunes", "--start", "heap"], "heap"),
+        ] {
+            let out = cellsurf(args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && err.contains(want),
+                "{args:?}: {err}"
+            );
+        }
+        let dir = tmp("pile-keys");
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("s.toml");
+        for (text, want) in [
+            (
+                "pile_height = 3.0\n",
+                "warning: the scenario's pile_height = 3 has no effect: it applies to --start pile",
+            ),
+            (
+                "start = \"pile\"\nquantity = 2.0\n",
+                "warning: the scenario's quantity = 2 has no effect",
+            ),
+        ] {
+            std::fs::write(
+                &f,
+                format!("model = \"dunes\"\ndune = true\nsize = 16\nsteps = 2\n{text}"),
+            )
+            .unwrap();
+            let o = cellsurf(&["dunes", "--scenario", f.to_str().unwrap()]);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(o.status.success() && err.contains(want), "{text}: {err}");
+        }
+        let printed = |extra: &[&str]| {
+            let mut args = vec!["dunes", "-d", "--print-scenario"];
+            args.extend(extra);
+            String::from_utf8(cellsurf(&args).stdout).unwrap()
+        };
+        let random = printed(&[]);
+        assert!(
+            !random.contains("start") && !random.contains("pile"),
+            "{random}"
+        );
+        assert_eq!(printed(&["--start", "random"]), random);
+        let p = printed(&["--start", "pile"]);
+        for k in [
+            "start = \"pile\"",
+            "pile_centre = [",
+            "pile_height = 6.0",
+            "pile_radius = 12.0",
+        ] {
+            assert!(p.contains(k), "{k}: {p}");
+        }
+        // Werner's variant from a pile: whole slabs, sand conserved.
+        let w = json(&[
+            "dunes",
+            "--variant",
+            "werner",
+            "--start",
+            "pile",
+            "--size",
+            "24",
+            "--steps",
+            "5",
+            "--json",
+        ]);
+        assert_eq!(w["sand_change"], 0);
+        assert_eq!(w["total_grains"].as_u64().unwrap() % 100_000, 0);
     }
 
     fn json(args: &[&str]) -> serde_json::Value {

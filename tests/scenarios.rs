@@ -190,13 +190,11 @@ fn duplicate_key_error_names_the_key() {
 }
 
 /// The figures without a scenario file: the studies over many runs (seeds, sizes or
-/// parameters), and `dunes_barchan`, whose run starts from one round pile of sand, a state
-/// `cellsurf dunes` does not start from.
-const WITHOUT_SCENARIO: [&str; 10] = [
+/// parameters).
+const WITHOUT_SCENARIO: [&str; 9] = [
     "growth_error_vs_time",
     "growth_kpz_roughness",
     "windripples_error_vs_time",
-    "dunes_barchan",
     "dunes_error_vs_time",
     "cursor_k_effect",
     "cursor_error_vs_time",
@@ -539,6 +537,7 @@ fn the_subcommands_runs_are_the_parsers_runs() {
                 };
                 assert_eq!(j["config"], v(&cfg), "{name}");
                 assert_eq!(j["threshold"], serde_json::json!(s.threshold), "{name}");
+                assert_eq!(j["start"], v(&s.start), "{name}");
             }
             Parsed::WindRipples(p) => {
                 let j = json_of(

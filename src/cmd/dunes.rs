@@ -15,8 +15,8 @@ use super::conv::{self, Format, Outputs, Size};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::dunes::{
-    BODY_THRESHOLD, DuneConfig, DuneModel, GRAINS_PER_UNIT, MigrationRecorder, Mode, VERSION,
-    WernerParams, describe, draw_result,
+    BODY_THRESHOLD, DuneConfig, DuneModel, GRAINS_PER_UNIT, MigrationRecorder, Mode, Pile, Start,
+    VERSION, WernerParams, describe, draw_result,
 };
 
 /// Which model.
@@ -29,12 +29,32 @@ pub enum Variant {
     Werner,
 }
 
+/// The initial state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StartKind {
+    /// The mode's random heights (uniform in [0, 2Q] with -d and werner, in [2.85, 3.15] in
+    /// ripple mode).
+    #[default]
+    Random,
+    /// One round pile of sand on bare ground, a Gaussian h exp(-d^2 / r^2) (--pile-centre,
+    /// --pile-height, --pile-radius).
+    Pile,
+}
+
+impl StartKind {
+    fn is_random(&self) -> bool {
+        *self == StartKind::Random
+    }
+}
+
 /// Options of `cellsurf dunes`. Short options as in the article's `simulate.py`.
 #[derive(clap::Args, Serialize, Deserialize)]
 #[command(
     after_help = "Examples:\n  cellsurf dunes -d -q 1 --out q1.png       # barchans (dune mode, Q = 1)\n  \
                   cellsurf dunes -d -q 3 --size 140 --out q3.gif  # transverse ridges, animated\n  \
                   cellsurf dunes --variant werner -q 0.5 --steps 1000 --json\n  \
+                  cellsurf dunes -d --start pile --out pile.png  # one pile becomes a barchan\n  \
                   cellsurf dunes -w 5 --steps 200            # ripple mode (the earlier article)"
 )]
 pub struct Args {
@@ -81,9 +101,33 @@ pub struct Args {
     )]
     dune: bool,
     /// Sand quantity Q: mean initial height in cell widths, initial h uniform in [0, 2Q]
-    /// (dune mode and werner; 0 to 10^5).
+    /// (dune mode and werner with --start random; 0 to 10^5).
     #[arg(short = 'q', long = "quantity", default_value_t = 1.0)]
     quantity: f64,
+    /// Initial state: random or pile, in every mode; with pile, -q is unused (the pile
+    /// replaces the random heights), and werner rounds the pile's heights to whole slabs.
+    #[arg(long, value_enum, default_value_t = StartKind::Random)]
+    #[serde(default, skip_serializing_if = "StartKind::is_random")]
+    start: StartKind,
+    /// --start pile: the pile's centre X,Y as fractions of the grid side, each 0 to 1 (X
+    /// downwind, Y across the wind; the centre is at X N, Y N cells; the pile is cut at the
+    /// grid's edges, not wrapped round them) [default: 0.3333333333333333,0.5: a third of the
+    /// way downwind, half way across].
+    #[arg(
+        long,
+        value_name = "X,Y",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pile_centre: Option<Vec<f64>>,
+    /// --start pile: the pile's height h at its centre, in cell widths, above 0 and at most
+    /// 10^5 [default: 6].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pile_height: Option<f64>,
+    /// --start pile: the pile's radius r in cells (h exp(-d^2 / r^2) at d cells from the
+    /// centre), above 0 and at most 4096 [default: 12].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pile_radius: Option<f64>,
     /// Wind speed in cells (ripple mode: jump = int(wind + h); finite, -10^9 to 10^9).
     #[arg(short = 'w', long = "wind", default_value_t = 3.0)]
     wind: f64,
@@ -131,8 +175,8 @@ fn describe_mode(m: Mode) -> &'static str {
     }
 }
 
-/// The run's configuration from the options.
-fn config(a: &Args) -> Result<DuneConfig> {
+/// The run's configuration and initial state from the options.
+fn config(a: &Args) -> Result<(DuneConfig, Start)> {
     let mode = match (a.variant, a.dune) {
         (Variant::Werner, _) => Mode::Werner,
         (Variant::Article, true) => Mode::Dune,
@@ -156,29 +200,32 @@ fn config(a: &Args) -> Result<DuneConfig> {
     }
     // An option the chosen model does not use is refused, not ignored; a scenario file's
     // value of it (away from its default: --print-scenario writes every key) is warned of.
+    // (The pile's options hold a value only when given, on the command line or in a scenario.)
+    let join = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
     let value = |id: &str| match id {
-        "quantity" => a.quantity.to_string(),
-        "wind" => a.wind.to_string(),
-        "hop" => a.hop.to_string(),
-        _ => a.dune.to_string(),
+        "quantity" => Some(a.quantity.to_string()),
+        "wind" => Some(a.wind.to_string()),
+        "hop" => Some(a.hop.to_string()),
+        "pile_centre" => a.pile_centre.as_deref().map(join),
+        "pile_height" => a.pile_height.map(|v| v.to_string()),
+        "pile_radius" => a.pile_radius.map(|v| v.to_string()),
+        _ => Some(a.dune.to_string()),
     };
-    let unused = |id: &str, applies: &str| -> Result<()> {
+    let unused_in = |id: &str, applies: &str, here: &str| -> Result<()> {
         if conv::typed(id) {
             let flag = conv::typed_flag(id).unwrap_or_else(|| format!("--{id}"));
-            bail!(
-                "{flag} applies to {applies}, not to {mode}",
-                mode = describe_mode(mode)
-            );
+            bail!("{flag} applies to {applies}, not to {here}");
         }
-        if conv::set_by_scenario(id, &value(id)) {
+        if let Some(v) = value(id)
+            && conv::set_by_scenario(id, &v)
+        {
             conv::note(format_args!(
-                "warning: the scenario's {id} = {} has no effect: it applies to {applies}, not to {mode}",
-                value(id),
-                mode = describe_mode(mode)
+                "warning: the scenario's {id} = {v} has no effect: it applies to {applies}, not to {here}"
             ));
         }
         Ok(())
     };
+    let unused = |id: &str, applies: &str| unused_in(id, applies, describe_mode(mode));
     match mode {
         Mode::Ripple => unused("quantity", "dune mode (-d) and --variant werner")?,
         Mode::Dune => {
@@ -193,6 +240,29 @@ fn config(a: &Args) -> Result<DuneConfig> {
     if mode == Mode::Ripple {
         unused("hop", "--variant werner")?;
     }
+    let start = match a.start {
+        StartKind::Random => {
+            for id in ["pile_centre", "pile_height", "pile_radius"] {
+                unused_in(id, "--start pile", "--start random")?;
+            }
+            Start::Random
+        }
+        StartKind::Pile => {
+            if mode != Mode::Ripple {
+                unused_in(
+                    "quantity",
+                    "--start random (the pile replaces the random heights)",
+                    "--start pile",
+                )?;
+            }
+            let d = Pile::DEFAULT;
+            Start::Pile(Pile::new(
+                a.pile_centre.as_deref().unwrap_or(&d.centre),
+                a.pile_height.unwrap_or(d.height),
+                a.pile_radius.unwrap_or(d.radius),
+            )?)
+        }
+    };
     if !(a.threshold.is_finite() && a.threshold >= 0.0) {
         bail!(
             "threshold = {} is out of range: expected a finite height of at least 0 cell widths",
@@ -205,7 +275,18 @@ fn config(a: &Args) -> Result<DuneConfig> {
             a.gif_frames
         );
     }
-    Ok(cfg)
+    Ok((cfg, start))
+}
+
+/// The options with the pile's written out when the run starts from a pile, so that its
+/// scenario (`--print-scenario`, the PNG's parameters) names every one.
+fn with_pile_written_out(mut a: Args, start: &Start) -> Args {
+    if let Start::Pile(p) = start {
+        a.pile_centre = Some(p.centre.to_vec());
+        a.pile_height = Some(p.height);
+        a.pile_radius = Some(p.radius);
+    }
+    a
 }
 
 /// Runs `cellsurf dunes`.
@@ -214,7 +295,8 @@ pub fn run(a: Args) -> Result<()> {
     conv::set_quiet(a.quiet);
     let scenario = a.scenario.clone();
     let a = conv::merge_scenario(a, scenario.as_deref(), "dunes")?;
-    let cfg = config(&a)?;
+    let (cfg, initial) = config(&a)?;
+    let a = with_pile_written_out(a, &initial);
     if a.print_scenario {
         out!("{}", conv::scenario_text(&a, "dunes")?)?;
         return Ok(());
@@ -235,13 +317,21 @@ pub fn run(a: Args) -> Result<()> {
     );
     bar.set_message(format!("dunes {} {}x{}", cfg.mode, cfg.grid, cfg.grid));
     let start = Instant::now();
-    let mut m = DuneModel::new(&cfg)?;
+    let mut m = DuneModel::with_start(&cfg, &initial)?;
     if m.grains().iter().all(|&g| g == 0) {
+        let (flag, value) = match &initial {
+            Start::Random => (
+                conv::typed_flag("quantity").unwrap_or_else(|| "-q".into()),
+                cfg.quantity,
+            ),
+            Start::Pile(p) => (
+                conv::typed_flag("pile_height").unwrap_or_else(|| "--pile-height".into()),
+                p.height,
+            ),
+        };
         conv::note(format!(
-            "note: {} = {} puts no sand on the grid (heights are counted in grains of 1e-6 cell \
-             widths): nothing will move",
-            conv::typed_flag("quantity").unwrap_or_else(|| "-q".into()),
-            cfg.quantity
+            "note: {flag} = {value} puts no sand on the grid (heights are counted in grains of \
+             1e-6 cell widths): nothing will move"
         ));
     }
     let mut rec = outs.get(Format::Gif).map(|_| MigrationRecorder::new(480));
@@ -317,11 +407,22 @@ pub fn run(a: Args) -> Result<()> {
             "grains_per_unit": GRAINS_PER_UNIT,
             "sand_change": s.sand_change,
             "config": cfg,
+            "start": initial,
         });
         let v = conv::envelope("dunes", conv::scenario_table(&a)?, elapsed, own)?;
         outln!("{}", serde_json::to_string(&v)?)?;
     } else {
         outln!("cellsurf {VERSION} dunes: {}", describe(&cfg))?;
+        if let Start::Pile(p) = &initial {
+            let n = cfg.grid as f64;
+            outln!(
+                "  start: one pile {} cell widths high, radius {} cells, centred at ({}, {}) cells",
+                p.height,
+                p.radius,
+                format!("{:.2}", p.centre[0] * n),
+                format!("{:.2}", p.centre[1] * n)
+            )?;
+        }
         outln!(
             "  iterations {} in {elapsed:.3} s ({rate:.0} iterations/s); picks {picks}, of which {moves} moved sand",
             m.iteration()

@@ -13,11 +13,13 @@
 //!   the exact sand balance; [`Bodies`] (from [`bodies`]): connected components of the cells
 //!   above a threshold (petgraph's union-find on the 8-neighbour torus of a
 //!   [`Lattice`](crate::engine::lattice::Lattice));
+//! - [`Start`]: the initial state, the mode's random field or one round sand [`Pile`]
+//!   ([`DuneModel::with_start`]);
 //! - [`DuneError`]: a parameter out of range, naming the parameter, its value and the range.
 //!
 //! The slab engine lives in `engine.rs`, the torus geometry in `grid.rs`, the Werner rules
-//! in `werner.rs`, the measurements in `measure.rs`; [`study`] holds the
-//! error-against-run-time study; the figures (feature `plot`) are in
+//! in `werner.rs`, the measurements in `measure.rs`, the initial states in `start.rs`;
+//! [`study`] holds the error-against-run-time study; the figures (feature `plot`) are in
 //! `FIGURES`, drawn by the functions of the private `plot` module re-exported here.
 //!
 //! ```
@@ -126,6 +128,7 @@ mod measure;
 #[cfg(feature = "plot")]
 mod plot;
 mod scenario;
+mod start;
 pub mod study;
 mod werner;
 
@@ -134,10 +137,10 @@ pub use measure::{Bodies, DuneStats, above_threshold, bodies};
 #[cfg(feature = "plot")]
 pub use plot::{
     ErrorStudy, FIGURES, FieldPanel, HEIGHT_LEVELS, MigrationRecorder, SCENARIOS, bodies_panel,
-    describe, draw_field, draw_result, gaussian_pile, height_color, height_palette, height_panel,
-    height_states,
+    describe, draw_field, draw_result, height_color, height_palette, height_panel, height_states,
 };
 pub use scenario::DuneScenario;
+pub use start::{Pile, Start, gaussian_pile};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

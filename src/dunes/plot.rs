@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
 use super::{
     BODY_THRESHOLD, DuneConfig, DuneModel, DuneScenario, Mode, VERSION, above_threshold, bodies,
+    gaussian_pile,
 };
 use crate::engine::lattice::Lattice;
 use crate::plot::{
@@ -560,17 +561,6 @@ fn q1_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
 
 fn q3_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     dune_mode_figure(dir, "dunes_q3", "connected transverse ridges", None)
-}
-
-/// A round pile of sand, `amp` height units high at its centre `(cx, cy)` and of radius
-/// `r` cells (a Gaussian, `amp exp(-d^2 / r^2)`), on bare ground: grains of an `n x n` grid.
-pub fn gaussian_pile(n: usize, cx: f64, cy: f64, amp: f64, r: f64) -> Vec<u64> {
-    (0..n * n)
-        .map(|c| {
-            let (dx, dy) = ((c % n) as f64 - cx, (c / n) as f64 - cy);
-            super::to_grains(amp * (-(dx * dx + dy * dy) / (r * r)).exp())
-        })
-        .collect()
 }
 
 /// Dune mode from one round pile (6 cell widths high, radius 12) on the default grid: a

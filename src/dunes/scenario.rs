@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::{BODY_THRESHOLD, DuneConfig, Mode, WernerParams};
+use super::{BODY_THRESHOLD, DuneConfig, Mode, Pile, Start, WernerParams};
 use crate::engine::scenario::{self, GridSize, ScenarioError};
 
 /// The keys of a `cellsurf dunes` scenario file (`model = "dunes"`), as the subcommand's
@@ -20,6 +20,10 @@ struct Keys {
     variant: Option<String>,
     hop: Option<u32>,
     threshold: Option<f64>,
+    start: Option<String>,
+    pile_centre: Option<Vec<f64>>,
+    pile_height: Option<f64>,
+    pile_radius: Option<f64>,
 }
 
 /// A `cellsurf dunes` run: its configuration and the dune-body threshold of its pictures.
@@ -30,13 +34,16 @@ pub struct DuneScenario {
     /// Dune-body threshold, height units (the subcommand's `--threshold`, default
     /// [`BODY_THRESHOLD`]).
     pub threshold: f64,
+    /// The initial state (the subcommand's `--start`, default [`Start::Random`]).
+    pub start: Start,
 }
 
 impl DuneScenario {
     /// Reads a scenario file as `cellsurf dunes --scenario` does: `size` (a square grid),
     /// `steps` (iterations), `dune` and `variant` (`article` or `werner`: the mode), `quantity`,
-    /// `wind`, `seed`, `hop` (Werner's) and `threshold`; a key not given keeps the subcommand's
-    /// default. The result is validated.
+    /// `wind`, `seed`, `hop` (Werner's), `threshold`, and `start` (`random` or `pile`) with the
+    /// pile's `pile_centre`, `pile_height` and `pile_radius` (read with `start = "pile"` only);
+    /// a key not given keeps the subcommand's default. The result is validated.
     pub fn parse(text: &str) -> Result<DuneScenario, ScenarioError> {
         let k: Keys = scenario::read(text, "dunes")?;
         let d = DuneConfig::default();
@@ -78,7 +85,30 @@ impl DuneScenario {
                 "threshold = {threshold} is out of range: expected a finite height of at least 0 cell widths"
             )));
         }
-        Ok(DuneScenario { config, threshold })
+        let start = match k.start.as_deref() {
+            None | Some("random") => Start::Random,
+            Some("pile") => {
+                let d = Pile::DEFAULT;
+                Start::Pile(
+                    Pile::new(
+                        k.pile_centre.as_deref().unwrap_or(&d.centre),
+                        k.pile_height.unwrap_or(d.height),
+                        k.pile_radius.unwrap_or(d.radius),
+                    )
+                    .map_err(ScenarioError::new)?,
+                )
+            }
+            Some(s) => {
+                return Err(ScenarioError::new(format!(
+                    "start = \"{s}\" is out of range: expected \"random\" or \"pile\""
+                )));
+            }
+        };
+        Ok(DuneScenario {
+            config,
+            threshold,
+            start,
+        })
     }
 }
 
@@ -97,6 +127,16 @@ mod tests {
         assert_eq!(s.threshold, BODY_THRESHOLD);
         let w = DuneScenario::parse("model = \"dunes\"\nvariant = \"werner\"\nhop = 7\n").unwrap();
         assert_eq!((w.config.mode, w.config.werner.hop), (Mode::Werner, 7));
+        assert_eq!(w.start, Start::Random);
+        let p = DuneScenario::parse("model = \"dunes\"\nstart = \"pile\"\npile_height = 3.0\n")
+            .unwrap();
+        assert_eq!(
+            p.start,
+            Start::Pile(Pile {
+                height: 3.0,
+                ..Pile::DEFAULT
+            })
+        );
         crate::engine::scenario::assert_refused(
             "dunes",
             DuneScenario::parse,
@@ -107,6 +147,9 @@ mod tests {
                 ("threshold = -1.0", "threshold"),
                 ("quantity = -1.0", "quantity"),
                 ("iterations = 5", "iterations"),
+                ("start = \"heap\"", "start"),
+                ("start = \"pile\"\npile_radius = 0.0", "pile_radius"),
+                ("start = \"pile\"\npile_centre = [0.5]", "pile_centre"),
             ],
         );
     }
