@@ -6,7 +6,7 @@
 //!
 //! A figure made from one run of a subcommand (or one run a panel) takes its parameters from
 //! its scenario file in `scenarios/` ([`scenarios`]); the others, listed in
-//! [`WITHOUT_SCENARIO`], are studies over many runs, but for one.
+//! [`WITHOUT_SCENARIO`], are studies over many runs.
 //!
 //! The figures of [`MEASURED`] plot measured run times, which differ from run to run. They
 //! are drawn from their committed tables (`figures/data/NAME.csv` and `.toml`, see
@@ -57,16 +57,11 @@ pub fn scenario_tables() -> impl Iterator<Item = &'static (&'static str, &'stati
 const STUDY: &str =
     "a study over many runs (seeds, sizes or parameters), not one run of a subcommand";
 
-/// The figures without a scenario file, and why: the studies over many runs, and one figure
-/// whose run starts from a state its subcommand cannot make.
+/// The figures without a scenario file, and why: the studies over many runs.
 pub const WITHOUT_SCENARIO: &[(&str, &str)] = &[
     ("growth_error_vs_time", STUDY),
     ("growth_kpz_roughness", STUDY),
     ("windripples_error_vs_time", STUDY),
-    (
-        "dunes_barchan",
-        "its run starts from one round pile of sand, a state `cellsurf dunes` does not start from",
-    ),
     ("dunes_error_vs_time", STUDY),
     ("cursor_k_effect", STUDY),
     ("cursor_error_vs_time", STUDY),

@@ -881,6 +881,57 @@ mod cli {
         }
     }
 
+    /// `cellsurf dunes --scenario scenarios/dunes_barchan.toml` is the figure's run: the same
+    /// final statistics as the library's run of the file (the figure's path), and the figure
+    /// regenerated from the file is the committed one, byte for byte.
+    #[test]
+    fn the_barchan_scenario_is_the_figures_run() {
+        use cellsurf::dunes::{DuneModel, DuneScenario};
+        let root = env!("CARGO_MANIFEST_DIR");
+        let file = format!("{root}/scenarios/dunes_barchan.toml");
+        let j = json(&["dunes", "--scenario", &file, "--json"]);
+        let s = DuneScenario::parse(&std::fs::read_to_string(&file).unwrap()).unwrap();
+        let mut m = DuneModel::with_start(&s.config, &s.start).unwrap();
+        m.run_to_end();
+        let st = m.stats_with_threshold(s.threshold);
+        let v = |x: f64| serde_json::json!(x);
+        assert_eq!(j["iterations"], st.iteration);
+        assert_eq!(j["dune_bodies"], st.dune_bodies);
+        assert_eq!(j["spanning_bodies"], st.spanning_bodies);
+        assert_eq!(j["total_grains"], st.total_grains);
+        assert_eq!(j["sand_change"], 0);
+        for (k, x) in [
+            ("bare_fraction", st.bare_fraction),
+            ("largest_body_fraction", st.largest_body_fraction),
+            ("min_height", st.min_height),
+            ("max_height", st.max_height),
+            ("mean_height", st.mean_height),
+        ] {
+            assert_eq!(j[k], v(x), "{k}");
+        }
+        assert_eq!(j["start"], serde_json::to_value(s.start).unwrap());
+        assert_eq!(j["start"]["pile"]["height"], 6.0);
+        let dir = tmp("barchan-figure");
+        let out = cellsurf(&[
+            "figures",
+            "--only",
+            "dunes_barchan",
+            "--out-dir",
+            dir.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            std::fs::read(dir.join("dunes_barchan.png")).unwrap()
+                == std::fs::read(format!("{root}/figures/dunes_barchan.png")).unwrap(),
+            "dunes_barchan.png from its scenario differs from the committed figure"
+        );
+    }
+
     /// The pile's options: a value out of range is refused naming the flag, the value and the
     /// range; typed without `--start pile` they are refused, and so is `-q` with it (the pile
     /// replaces the random heights); a scenario's values of them are warned of instead. A

@@ -14,21 +14,18 @@ use plotters::style::{BLACK, RGBColor};
 use rayon::prelude::*;
 
 use super::study::{self, ErrorCurve, EvolutionPoint, SeedRun};
-use super::{
-    BODY_THRESHOLD, DuneConfig, DuneModel, DuneScenario, Mode, VERSION, above_threshold, bodies,
-    gaussian_pile,
-};
+use super::{DuneConfig, DuneModel, DuneScenario, Mode, Start, VERSION, above_threshold, bodies};
 use crate::engine::lattice::Lattice;
 use crate::plot::{
     self, CellField, Chart, ColorRamp, GifWriter, Mark, Palette, PlotError, Series, Sheet,
 };
 use crate::plot::{Figure, FigureError, read_scenario, scenario_panels, scenario_text};
 
-/// The scenario files of the figures made from one run (or one run a panel), by file name:
-/// `dunes_barchan` has none (its initial pile is not a state `cellsurf dunes` starts from).
+/// The scenario files of the figures made from one run (or one run a panel), by file name.
 pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
     "dunes_q1",
     "dunes_q3",
+    "dunes_barchan",
     "dunes_werner_q0.5",
     "dunes_werner_q3",
 ];
@@ -563,17 +560,22 @@ fn q3_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
     dune_mode_figure(dir, "dunes_q3", "connected transverse ridges", None)
 }
 
-/// Dune mode from one round pile (6 cell widths high, radius 12) on the default grid: a
-/// barchan forms, its horns pointing downwind.
+/// The run of scenario `dunes_barchan`: dune mode from one round pile (6 cell widths high,
+/// radius 12 cells, a third of the way downwind on the default grid): a barchan forms, its
+/// horns pointing downwind. Heights at t = 0, 50, 200 and the last iteration, and the dune
+/// bodies then.
 fn barchan_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
-    let cfg = DuneConfig {
-        mode: Mode::Dune,
-        ..DuneConfig::default()
-    };
-    record_parameters("dunes_barchan", &[&cfg]);
+    let name = "dunes_barchan";
+    let s = read_scenario(name, scenario_text(SCENARIOS, name)?, DuneScenario::parse)?;
+    if !matches!(s.start, Start::Pile(_)) {
+        return Err(FigureError::Model(format!(
+            "{name}: its run starts from one pile (start = \"pile\")"
+        )));
+    }
+    let cfg = s.config;
+    record_parameters(name, &[&cfg]);
     let n = cfg.grid;
-    let pile = gaussian_pile(n, n as f64 / 3.0, n as f64 / 2.0, 6.0, 12.0);
-    let m = DuneModel::from_grains(&cfg, pile).map_err(|e| FigureError::Model(e.to_string()))?;
+    let m = DuneModel::with_start(&cfg, &s.start).map_err(|e| FigureError::Model(e.to_string()))?;
     let (kept, m) = run_model_with_snapshots(m, &[0, 50, 200, cfg.iterations], None)?;
     let max = kept
         .iter()
@@ -585,19 +587,19 @@ fn barchan_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         .iter()
         .map(|(t, g)| height_panel(&format!("heights, t = {t}"), g, n, max))
         .collect();
-    let s = m.stats();
+    let st = m.stats_with_threshold(s.threshold);
     panels.push(bodies_panel(
         &format!(
             "t = {}: {} bodies, bare {:.0}%",
-            s.iteration,
-            s.dune_bodies,
-            100.0 * s.bare_fraction
+            st.iteration,
+            st.dune_bodies,
+            100.0 * st.bare_fraction
         ),
         m.grains(),
         m.lattice(),
-        BODY_THRESHOLD,
+        s.threshold,
     ));
-    let path = dir.join("dunes_barchan.png");
+    let path = dir.join(format!("{name}.png"));
     draw_field(
         &path,
         &format!(
