@@ -821,6 +821,28 @@ mod cli {
         assert!(o.status.success() && !err.contains("warning"), "{err}");
     }
 
+    /// A run from a pile is described by its pile, not by the sand quantity it does not use
+    /// (the summary's first line, which is also the PNG's title).
+    #[test]
+    fn a_pile_run_is_described_by_its_pile() {
+        let o = cellsurf(&[
+            "dunes", "-d", "--start", "pile", "--size", "32", "--steps", "2",
+        ]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        let first = text.lines().next().unwrap_or_default();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            first.contains("dune mode, one pile 6 high, radius 12") && !first.contains("Q ="),
+            "{first}"
+        );
+        let o = cellsurf(&["dunes", "-d", "--size", "32", "--steps", "2"]);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            text.lines().next().unwrap_or_default().contains("Q = 1"),
+            "{text}"
+        );
+    }
+
     /// `--dune=false` runs ripple mode from a scenario in dune mode (a bare switch could not
     /// be turned off from the command line); `-d` and `--dune` alone still mean dune mode.
     #[test]

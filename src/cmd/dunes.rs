@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::dunes::{
     BODY_THRESHOLD, DuneConfig, DuneModel, GRAINS_PER_UNIT, MigrationRecorder, Mode, Pile, Start,
-    VERSION, WernerParams, describe, draw_result,
+    VERSION, WernerParams, describe_run, draw_result,
 };
 
 /// Which model.
@@ -377,7 +377,8 @@ pub fn run(a: Args) -> Result<()> {
         conv::wrote(p);
     }
     if let Some(p) = outs.get(Format::Png) {
-        draw_result(p, &m).with_context(|| format!("writing {flag} {}", p.display()))?;
+        draw_result(p, &m, &describe_run(&cfg, &initial))
+            .with_context(|| format!("writing {flag} {}", p.display()))?;
         conv::wrote(p);
     }
     let (picks, moves) = m.picks();
@@ -412,7 +413,7 @@ pub fn run(a: Args) -> Result<()> {
         let v = conv::envelope("dunes", conv::scenario_table(&a)?, elapsed, own)?;
         outln!("{}", serde_json::to_string(&v)?)?;
     } else {
-        outln!("cellsurf {VERSION} dunes: {}", describe(&cfg))?;
+        outln!("cellsurf {VERSION} dunes: {}", describe_run(&cfg, &initial))?;
         if let Start::Pile(p) = &initial {
             let n = cfg.grid as f64;
             outln!(

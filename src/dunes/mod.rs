@@ -137,7 +137,8 @@ pub use measure::{Bodies, DuneStats, above_threshold, bodies};
 #[cfg(feature = "plot")]
 pub use plot::{
     ErrorStudy, FIGURES, FieldPanel, HEIGHT_LEVELS, MigrationRecorder, SCENARIOS, bodies_panel,
-    describe, draw_field, draw_result, height_color, height_palette, height_panel, height_states,
+    describe, describe_run, draw_field, draw_result, height_color, height_palette, height_panel,
+    height_states,
 };
 pub use scenario::DuneScenario;
 pub use start::{Pile, Start, gaussian_pile};

@@ -400,9 +400,30 @@ pub fn describe(cfg: &DuneConfig) -> String {
     }
 }
 
-/// The final heights and the dune bodies of a model, as two panels with a colour bar:
-/// the picture `cellsurf dunes --out` writes.
-pub fn draw_result(path: &Path, m: &DuneModel) -> Result<(), PlotError> {
+/// [`describe`] for a run that starts from `start`: from a pile, the pile's height and radius
+/// take the place of the sand quantity, which such a run does not use.
+pub fn describe_run(cfg: &DuneConfig, start: &Start) -> String {
+    let Start::Pile(p) = start else {
+        return describe(cfg);
+    };
+    let pile = format!("one pile {} high, radius {}", p.height, p.radius);
+    match cfg.mode {
+        Mode::Ripple => format!(
+            "ripple mode, wind {}, {pile}, grid {}, seed {}",
+            cfg.wind, cfg.grid, cfg.seed
+        ),
+        Mode::Dune => format!("dune mode, {pile}, grid {}, seed {}", cfg.grid, cfg.seed),
+        Mode::Werner => format!(
+            "Werner, L = {}, {pile}, grid {}, seed {}",
+            cfg.werner.hop, cfg.grid, cfg.seed
+        ),
+    }
+}
+
+/// The final heights and the dune bodies of a model, as two panels with a colour bar, under
+/// the title `about` (the run in words: [`describe_run`]): the picture `cellsurf dunes --out`
+/// writes.
+pub fn draw_result(path: &Path, m: &DuneModel, about: &str) -> Result<(), PlotError> {
     let s = m.stats();
     let max = s.max_height.max(1e-6);
     let n = m.grid();
@@ -422,7 +443,7 @@ pub fn draw_result(path: &Path, m: &DuneModel) -> Result<(), PlotError> {
     ];
     draw_field(
         path,
-        &format!("{}  (wind →, cellsurf {VERSION})", describe(m.config())),
+        &format!("{about}  (wind →, cellsurf {VERSION})"),
         &panels,
         2,
         420,
