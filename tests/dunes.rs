@@ -821,6 +821,30 @@ mod cli {
         assert!(o.status.success() && !err.contains("warning"), "{err}");
     }
 
+    /// A Werner pile lower than half a slab leaves no sand: the note says the slabs did it.
+    #[test]
+    fn a_werner_pile_below_half_a_slab_is_said_to_round_to_none() {
+        let o = cellsurf(&[
+            "dunes",
+            "--variant",
+            "werner",
+            "--start",
+            "pile",
+            "--pile-height",
+            "0.04",
+            "--size",
+            "16",
+            "--steps",
+            "1",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            err.contains("--pile-height = 0.04 puts no sand") && err.contains("whole slabs of 0.1"),
+            "{err}"
+        );
+    }
+
     /// A run from a pile is described by its pile, not by the sand quantity it does not use
     /// (the summary's first line, which is also the PNG's title).
     #[test]
@@ -951,6 +975,12 @@ mod cli {
             std::fs::read(dir.join("dunes_barchan.png")).unwrap()
                 == std::fs::read(format!("{root}/figures/dunes_barchan.png")).unwrap(),
             "dunes_barchan.png from its scenario differs from the committed figure"
+        );
+        // and it records the run it made: from the pile
+        let rec = super::common::png_parameters(&dir.join("dunes_barchan.png")).unwrap();
+        assert!(
+            rec.contains("start = \"pile\"") && rec.contains("pile_height = 6.0"),
+            "{rec}"
         );
     }
 

@@ -87,7 +87,8 @@ pub struct Args {
     steps: u64,
     /// Dune mode: int(0.2 N^2) picks among cells with sand, tanh jump and quantity laws,
     /// D = 0.3 (without -d: ripple mode, N^2 picks, jump int(wind + h), q = 0.1, D = 0.1;
-    /// `--dune=false` runs ripple mode from a scenario that sets `dune = true`).
+    /// `--dune=false`, the value joined by `=`, runs ripple mode from a scenario that sets
+    /// `dune = true`).
     #[arg(
         short = 'd',
         long = "dune",
@@ -329,9 +330,16 @@ pub fn run(a: Args) -> Result<()> {
                 p.height,
             ),
         };
+        let counted = match (&initial, cfg.mode) {
+            (Start::Pile(_), Mode::Werner) => format!(
+                "--variant werner rounds each height to whole slabs of {} cell widths, and every \
+                 height of this pile rounds to none",
+                cfg.werner.slab
+            ),
+            _ => "heights are counted in grains of 1e-6 cell widths".to_string(),
+        };
         conv::note(format!(
-            "note: {flag} = {value} puts no sand on the grid (heights are counted in grains of \
-             1e-6 cell widths): nothing will move"
+            "note: {flag} = {value} puts no sand on the grid ({counted}): nothing will move"
         ));
     }
     let mut rec = outs.get(Format::Gif).map(|_| MigrationRecorder::new(480));

@@ -453,14 +453,39 @@ pub fn draw_result(path: &Path, m: &DuneModel, about: &str) -> Result<(), PlotEr
 
 /// Records `cfg` (as TOML, under the figure's name) in the PNGs this thread writes next.
 fn record_parameters(figure: &str, cfgs: &[&DuneConfig]) {
+    record_runs(figure, cfgs, &Start::Random);
+}
+
+/// [`record_parameters`] for runs that start from `start`: a pile's keys (those of the
+/// scenario file, `start = "pile"`, `pile_centre`, `pile_height`, `pile_radius`) join each
+/// run's, so that the record says the run that was made.
+fn record_runs(figure: &str, cfgs: &[&DuneConfig], start: &Start) {
+    #[derive(serde::Serialize)]
+    struct PileKeys {
+        start: &'static str,
+        pile_centre: [f64; 2],
+        pile_height: f64,
+        pile_radius: f64,
+    }
+    let pile = match start {
+        Start::Random => String::new(),
+        Start::Pile(p) => toml::to_string(&PileKeys {
+            start: "pile",
+            pile_centre: p.centre,
+            pile_height: p.height,
+            pile_radius: p.radius,
+        })
+        .unwrap_or_default(),
+    };
     let mut text = format!("figure = \"{figure}\"\n");
     for c in cfgs {
         text.push_str("\n[[run]]\n");
-        text.push_str(
-            &toml::to_string(c)
-                .unwrap_or_default()
-                .replace("[werner]", "[run.werner]"),
-        );
+        let run = toml::to_string(c).unwrap_or_default();
+        // (the run's own keys come before its [werner] table)
+        let (keys, tables) = run.split_at(run.find("\n[werner]").unwrap_or(run.len()));
+        text.push_str(keys);
+        text.push_str(&pile);
+        text.push_str(&tables.replace("[werner]", "[run.werner]"));
     }
     plot::set_png_parameters(Some(text));
 }
@@ -594,7 +619,7 @@ fn barchan_figure(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         )));
     }
     let cfg = s.config;
-    record_parameters(name, &[&cfg]);
+    record_runs(name, &[&cfg], &s.start);
     let n = cfg.grid;
     let m = DuneModel::with_start(&cfg, &s.start).map_err(|e| FigureError::Model(e.to_string()))?;
     let (kept, m) = run_model_with_snapshots(m, &[0, 50, 200, cfg.iterations], None)?;
