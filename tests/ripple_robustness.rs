@@ -251,6 +251,31 @@ fn waves_switched_off_leave_the_wave_options_idle_and_refused() {
         "--quiet",
     ]));
     assert_eq!(v["wave_period_s"], serde_json::Value::Null);
+    // it switches off a scenario's waves: their period, vortex and friction are not the run's,
+    // are recorded at their no-wave defaults, and no warning offers to keep or reset them
+    let f = tmp("waves-off.toml");
+    let mut text = std::fs::read_to_string("tests/fixtures/ripple_seconds.toml").unwrap();
+    text.push_str("wave_friction_factor = 0.05\nwave_vortex = 0.3\n");
+    std::fs::write(&f, text).unwrap();
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        f.to_str().unwrap(),
+        "--wave-velocity",
+        "0",
+        "--json",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(!err.contains("is kept"), "{err}");
+    let v = json(&o);
+    assert_eq!(v["wave_period_s"], serde_json::Value::Null);
+    let p = &v["parameters"];
+    assert_eq!(p["wave_amplitude"], 0.0);
+    assert_eq!(p["wave_period"], 0.0);
+    assert!(
+        p.get("wave_vortex").is_none() && p.get("wave_friction_factor").is_none(),
+        "{p}"
+    );
 }
 
 #[test]

@@ -106,8 +106,8 @@ pub struct Args {
     /// reports `wave_period_steps`) [default: no wave].
     #[arg(long, value_name = "DURATION", value_parser = conv::parse_duration, allow_hyphen_values = true)]
     wave_period: Option<f64>,
-    /// Near-bed orbital velocity amplitude of the waves, m/s, 0 to 10 (needs --wave-period)
-    /// [default: 0].
+    /// Near-bed orbital velocity amplitude of the waves, m/s, 0 to 10 (above 0 it needs
+    /// --wave-period; 0 is no waves, and switches off a scenario's) [default: 0].
     #[arg(long = "wave-velocity", alias = "wave-amplitude")]
     wave_amplitude: Option<f64>,
     /// Surface wave height H (crest to trough), m: the near-bed orbital velocity then follows
@@ -414,7 +414,10 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             bail!("--wave-vortex needs --wave-period (the orbital excursion U_w T / (2 pi))");
         }
         (None, false) => {
-            if p.wave_vortex > 0.0 && (a.wave_amplitude.is_some() || a.wave_height.is_some()) {
+            if p.wave_vortex > 0.0
+                && p.wave_amplitude > 0.0
+                && (a.wave_amplitude.is_some() || a.wave_height.is_some())
+            {
                 conv::note(format_args!(
                     "warning: the scenario's wave_vortex = {} m (the orbital excursion of its own waves) is kept; give --wave-period in seconds to set it anew from the waves, or --no-wave-vortex",
                     cellsurf::ripple::params::shown(p.wave_vortex)
@@ -428,6 +431,7 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
     } else if a.wave_period.is_none()
         && a.wave_friction_factor.is_none()
         && p.wave_friction_factor > 0.0
+        && p.wave_amplitude > 0.0
         && (a.d50.is_some() || a.wave_amplitude.is_some())
     {
         conv::note(format_args!(
@@ -484,6 +488,16 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
                 "{} acts on waves, and there are none: give --wave-velocity (near-bed orbital velocity, m/s) or --wave-height with --water-depth",
                 idle.join(" and ")
             );
+        }
+        if switched_off {
+            // a scenario's waves switched off: its wave keys are not this run's, and are
+            // recorded at their no-wave defaults (no period, vortex or friction of waves)
+            let none = RippleParams::default();
+            secs.wave_period = None;
+            p.wave_period = none.wave_period;
+            p.wave_vortex = none.wave_vortex;
+            p.wave_friction_factor = none.wave_friction_factor;
+            p.wave_angle = none.wave_angle;
         }
     }
     // the lee vortex's options with no vortex to act on, or a vortex the current overrides
