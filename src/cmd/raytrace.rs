@@ -306,20 +306,16 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
             .with_context(|| format!("in --seafloor-csv {}", p.display()))?;
         return Ok((f, "csv", None));
     }
-    if let Some(p) = a.seafloor.as_ref().filter(|p| {
+    let store = a.seafloor.as_ref().filter(|p| {
         p.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("zarr"))
-    }) {
-        // a ripple run's store is read whole, as its NetCDF file
-        if let Some(surf) = read_ripple_store(p).context("reading --seafloor")? {
-            check_section_memory(a, surf.bin)?;
-            let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);
-            return Ok((
-                surf.grid().section(line, a.water_depth, 0.0)?,
-                "ripple store",
-                None,
-            ));
-        }
+    });
+    // a ripple run's store is read whole, as its NetCDF file; a tile store chunk by chunk
+    let ripple_store = match store {
+        Some(p) => read_ripple_store(p).context("reading --seafloor")?,
+        None => None,
+    };
+    if let (Some(p), None) = (store, &ripple_store) {
         let mut z = ZarrSurface::open(p).context("reading --seafloor")?;
         let (_, ny, bin) = z.shape();
         check_section_memory(a, bin)?;
@@ -327,13 +323,14 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         let f = cut_section(&mut z, line, a.water_depth, 0.0).context("reading --seafloor")?;
         return Ok((f, "tile store", Some(z.chunks_read)));
     }
-    let (surf, kind) = match &a.seafloor {
-        Some(p) => {
+    let (surf, kind) = match (ripple_store, &a.seafloor) {
+        (Some(s), _) => (s, "ripple store"),
+        (None, Some(p)) => {
             let (s, k) =
                 cellsurf::raytrace::input::read_surface(p).context("reading --seafloor")?;
             (s, k.name())
         }
-        None => (RippleSurface::generated(a.seed)?, "generated"),
+        (None, None) => (RippleSurface::generated(a.seed)?, "generated"),
     };
     check_section_memory(a, surf.bin)?;
     let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);

@@ -66,6 +66,8 @@ pub struct Sticking {
     int_recip: [u64; 9],
     /// With `int_w`: all ones where `int_w[b]` is 1 (the quotient is the number itself), else 0.
     int_one: [u64; 9],
+    /// With `int_w`: `z^n` as an `f64` (exact, at most 2^35); 1 otherwise.
+    int_total: f64,
 }
 
 /// The largest `z^n` for which [`Sticking::int_weights`] are kept (so that a lattice of fewer
@@ -117,6 +119,7 @@ impl Sticking {
             })
         });
         let int_one = int_w.map_or([0; 9], |w| w.map(|d| if d == 1 { u64::MAX } else { 0 }));
+        let int_total = int_w.map_or(1.0, |w| w[z] as f64);
         Ok(Sticking {
             n,
             z,
@@ -127,6 +130,7 @@ impl Sticking {
             int_w,
             int_recip,
             int_one,
+            int_total,
         })
     }
 
@@ -177,9 +181,7 @@ impl Sticking {
     /// [`Sticking::int_weights`] (else 1).
     #[inline]
     pub fn int_weight_total(&self) -> f64 {
-        self.int_w
-            .as_ref()
-            .map_or(1.0, |w| (w[self.z] as i64) as f64)
+        self.int_total
     }
     /// `r / int_w[b]` rounded down, for any `r`: the slot within class `b` of the exact
     /// sampler's integer draw (`r`, the remainder after the classes above).
@@ -341,8 +343,11 @@ mod tests {
                 tables += 1;
                 for (b, &d) in w.iter().enumerate().take(z + 1).skip(1) {
                     let mut rs = vec![0, 1, d - 1, d, d + 1, u32::MAX as u64, 1 << 32, 1 << 40];
-                    let top = (u32::MAX as u64 / d) * d;
-                    rs.extend([top - 1, top, top + 1]);
+                    // (the largest multiple below 2^32 and its neighbours, for a weight below it)
+                    if d <= u32::MAX as u64 {
+                        let top = (u32::MAX as u64 / d) * d;
+                        rs.extend([top - 1, top, top + 1]);
+                    }
                     rs.extend((0..2000).map(|_| next() >> 32));
                     rs.extend((0..200).map(|_| next() >> 1));
                     for r in rs {

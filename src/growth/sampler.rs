@@ -831,9 +831,9 @@ mod tests {
 
     #[test]
     fn rejected_picks_by_log_skips_the_logarithm_only_where_it_is_p() {
-        // Below 2^-54, -ln(1 - p) rounds to p: the library's ln_1p returns it, so the count
-        // e / p taken without the call is the logarithm's, bit for bit (n = 50 flames reach
-        // p of 1e-24 on a faceted front).
+        // Below 2^-54, -ln(1 - p) rounds to p (the next term, p/2 relative, is under half an
+        // ulp): the library's ln_1p returns it, so the count e / p taken without the call is
+        // the logarithm's, bit for bit (n = 50 flames reach p of 1e-24 on a faceted front).
         assert_eq!(TINY_P, 2f64.powi(-54));
         let mut rng = stream(12);
         let below = |p: f64| p * (1.0 - f64::EPSILON);
@@ -848,8 +848,9 @@ mod tests {
             assert_eq!(rejected_picks_by_log(p, e), by_log, "p = {p:e}, e = {e}");
             assert_eq!(rejected_picks_linear(p, e), by_log, "p = {p:e}, e = {e}");
         }
-        // At and above 2^-54 the logarithm is taken, and differs from p: the shortcut's
-        // bound is where the two part.
+        // The bound is on the safe side: ln_1p keeps returning p a little above 2^-54 (up to
+        // about 2^-52.5), where the logarithm is still taken. Well above it the two differ,
+        // and the count is the logarithm's.
         let p = 1e-8f64;
         assert_ne!(-(-p).ln_1p(), p);
         assert_eq!(rejected_picks_by_log(p, 1.0), (1.0 / -(-p).ln_1p()).floor());
