@@ -613,6 +613,42 @@ fn equal_fan_limits_launch_one_angle() {
     }
 }
 
+/// The section `--length` m long at 20 deg cut through the seafloor file `from`: the run's
+/// JSON summary and the rows of its `--seafloor-csv-out` file `name` (without the header).
+fn section_from(
+    from: &std::path::Path,
+    name: &str,
+    length: &str,
+) -> (serde_json::Value, Vec<String>) {
+    let out = tmp(name);
+    let o = cellsurf(&[
+        "raytrace",
+        "--seafloor",
+        from.to_str().unwrap(),
+        "--length",
+        length,
+        "--azimuth",
+        "20",
+        "--water-depth",
+        "1",
+        "--source-depth",
+        "0.5",
+        "--json",
+        "--quiet",
+        "--seafloor-csv-out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = std::fs::read_to_string(out)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(String::from)
+        .collect();
+    (v["insonified_fraction"].clone(), rows)
+}
+
 #[test]
 fn a_netcdf_mosaic_and_its_zarr_store_give_the_same_section() {
     // 3.7 mm bins: the float32 `x` spacing of the NetCDF file is 0.0036999999 m; the recorded
@@ -639,33 +675,10 @@ fn a_netcdf_mosaic_and_its_zarr_store_give_the_same_section() {
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
-    let section = |from: &PathBuf, name: &str| {
-        let out = tmp(name);
-        let o = cellsurf(&[
-            "raytrace",
-            "--seafloor",
-            from.to_str().unwrap(),
-            "--length",
-            "0.3",
-            "--azimuth",
-            "20",
-            "--water-depth",
-            "1",
-            "--source-depth",
-            "0.5",
-            "--quiet",
-            "--seafloor-csv-out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        std::fs::read_to_string(out)
-            .unwrap()
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .map(String::from)
-            .collect::<Vec<_>>()
-    };
-    let (a, b) = (section(&nc, "bins_nc.csv"), section(&zarr, "bins_zarr.csv"));
+    let (a, b) = (
+        section_from(&nc, "bins_nc.csv", "0.3").1,
+        section_from(&zarr, "bins_zarr.csv", "0.3").1,
+    );
     assert!(a.len() > 50, "{}", a.len());
     assert_eq!(a, b);
 }
@@ -1247,38 +1260,9 @@ fn a_ripple_netcdf_file_and_its_zarr_store_give_the_same_section() {
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
-    let section = |from: &PathBuf, name: &str| {
-        let out = tmp(name);
-        let o = cellsurf(&[
-            "raytrace",
-            "--seafloor",
-            from.to_str().unwrap(),
-            "--length",
-            "1",
-            "--azimuth",
-            "20",
-            "--water-depth",
-            "1",
-            "--source-depth",
-            "0.5",
-            "--json",
-            "--quiet",
-            "--seafloor-csv-out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        let rows = std::fs::read_to_string(out)
-            .unwrap()
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .map(String::from)
-            .collect::<Vec<_>>();
-        (v["insonified_fraction"].clone(), rows)
-    };
     let (a, b) = (
-        section(&nc, "ripple_bed_nc.csv"),
-        section(&zarr, "ripple_bed_zarr.csv"),
+        section_from(&nc, "ripple_bed_nc.csv", "1"),
+        section_from(&zarr, "ripple_bed_zarr.csv", "1"),
     );
     assert!(a.1.len() > 50, "{}", a.1.len());
     // the impedance of each column's top automaton, from both

@@ -268,23 +268,34 @@ fn subtract(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
     out
 }
 
+/// Length along the floor of the disjoint `stretches`, m.
+fn stretches_length(stretches: &[(f64, f64)], floor: &Seafloor) -> f64 {
+    // from +0 (a float sum starts from -0: an unlit floor would print as -0 %)
+    stretches
+        .iter()
+        .map(|&(a, b)| floor.length_between(a, b))
+        .fold(0.0, |s, l| s + l)
+}
+
+/// `length` as a share of the floor's length (0 to 1; 0 for a floor of no length).
+fn floor_share(length: f64, floor: &Seafloor) -> f64 {
+    let l = floor.length();
+    if l > 0.0 {
+        (length / l).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
 impl Insonification {
     /// Length of the unresolved floor, m (the union of [`Insonification::unresolved`]).
     pub fn unresolved_length(&self, floor: &Seafloor) -> f64 {
-        self.unresolved
-            .iter()
-            .map(|&(a, b)| floor.length_between(a, b))
-            .fold(0.0, |s, l| s + l)
+        stretches_length(&self.unresolved, floor)
     }
 
     /// Unresolved share of the floor's length (0 to 1; 0 unless the run was truncated).
     pub fn unresolved_fraction(&self, floor: &Seafloor) -> f64 {
-        let l = floor.length();
-        if l > 0.0 {
-            (self.unresolved_length(floor) / l).clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
+        floor_share(self.unresolved_length(floor), floor)
     }
 
     /// Fraction of the vertices in `range` that are insonified (0 for an empty range).
@@ -303,21 +314,12 @@ impl Insonification {
 
     /// Length of the lit floor, m (the union of [`Insonification::lit`]).
     pub fn lit_length(&self, floor: &Seafloor) -> f64 {
-        // from +0 (a float sum starts from -0: an unlit floor would print as -0 %)
-        self.lit
-            .iter()
-            .map(|&(a, b)| floor.length_between(a, b))
-            .fold(0.0, |s, l| s + l)
+        stretches_length(&self.lit, floor)
     }
 
     /// Lit share of the floor's length (0 to 1): insonification by length, not by vertex.
     pub fn length_fraction(&self, floor: &Seafloor) -> f64 {
-        let l = floor.length();
-        if l > 0.0 {
-            (self.lit_length(floor) / l).clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
+        floor_share(self.lit_length(floor), floor)
     }
 
     /// The floor from its first to its last vertex as alternating lit and shadowed pieces,
