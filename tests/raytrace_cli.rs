@@ -959,6 +959,21 @@ fn an_exhausted_ray_budget_is_warned_of_recorded_and_not_called_shadow() {
     }
 }
 
+/// `cellsurf raytrace --scenario FILE --length 2` and `extra`, the file `name` holding `text`.
+fn on_scenario(name: &str, text: &str, extra: &[&str]) -> std::process::Output {
+    let p = tmp(name);
+    std::fs::write(&p, text).unwrap();
+    let mut a = vec![
+        "raytrace",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--length",
+        "2",
+    ];
+    a.extend_from_slice(extra);
+    cellsurf(&a)
+}
+
 /// An opening with its centre is recorded as the fan it gives (the parameters, the scenario
 /// printed, the files' headers); a scenario with both an opening and limits of its own is
 /// refused naming the keys, as the command line refuses both.
@@ -994,16 +1009,7 @@ fn the_fan_of_an_opening_is_recorded_and_a_scenario_with_both_fans_is_refused() 
         "{sc}"
     );
     // the printed scenario runs the same fan
-    let p = tmp("fan_printed.toml");
-    std::fs::write(&p, &sc).unwrap();
-    let o = cellsurf(&[
-        "raytrace",
-        "--scenario",
-        p.to_str().unwrap(),
-        "--length",
-        "2",
-        "--json",
-    ]);
+    let o = on_scenario("fan_printed.toml", &sc, &["--json"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["run"]["angles_deg"], serde_json::json!([0.0, 20.0]));
@@ -1015,39 +1021,22 @@ fn the_fan_of_an_opening_is_recorded_and_a_scenario_with_both_fans_is_refused() 
         ),
         ("angle_min = 30\n", "angle_min = 30 given with opening = 20"),
     ] {
-        let p = tmp("fan_both.toml");
-        std::fs::write(
-            &p,
-            format!("model = \"raytrace\"\nopening = 20.0\ncentre_angle = 10\n{extra}"),
-        )
-        .unwrap();
-        let o = cellsurf(&[
-            "raytrace",
-            "--scenario",
-            p.to_str().unwrap(),
-            "--length",
-            "2",
-        ]);
+        let o = on_scenario(
+            "fan_both.toml",
+            &format!("model = \"raytrace\"\nopening = 20.0\ncentre_angle = 10\n{extra}"),
+            &[],
+        );
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{e}");
         assert!(e.contains(want) && e.contains("give either opening"), "{e}");
         assert_eq!(e.trim_end().lines().count(), 1, "{e}");
     }
     // an opening with the default limits (as older cellsurf printed it): the opening's fan
-    let p = tmp("fan_old.toml");
-    std::fs::write(
-        &p,
+    let o = on_scenario(
+        "fan_old.toml",
         "model = \"raytrace\"\nangle_min = 1.5\nangle_max = 25.0\nopening = 20.0\ncentre_angle = 10\n",
-    )
-    .unwrap();
-    let o = cellsurf(&[
-        "raytrace",
-        "--scenario",
-        p.to_str().unwrap(),
-        "--length",
-        "2",
-        "--json",
-    ]);
+        &["--json"],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["run"]["angles_deg"], serde_json::json!([0.0, 20.0]));

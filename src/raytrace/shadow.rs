@@ -875,23 +875,29 @@ mod tests {
         assert!((r - 0.378).abs() < 1e-3, "{r}");
     }
 
+    /// Isovelocity water, a fan of `rays` rays from S at (0, 5) between 4 and 60 deg, and
+    /// steps of 1 m.
+    fn point_fan_from_s(rays: usize) -> (SoundSpeed, Fan, InsonifyOptions) {
+        let fan = Fan::Point {
+            x: 0.0,
+            z: 5.0,
+            min_deg: 4.0,
+            max_deg: 60.0,
+            rays,
+        };
+        let mut o = InsonifyOptions::default();
+        o.trace.ds = 1.0;
+        (SoundSpeed::Isovelocity(1500.0), fan, o)
+    }
+
     #[test]
     fn a_truncated_run_reports_the_unresolved_floor_apart_from_the_shadow() {
         // a flat floor at 10 m in 0.25 m segments, lit from S at (0, 5) between 4 and 60 deg:
         // every vertex in the fan is lit; 40 rays alone leave gaps of several segments
         let xs: Vec<f64> = (0..=320).map(|i| f64::from(i) * 0.25).collect();
         let floor = Seafloor::new(xs, vec![10.0; 321], vec![]).unwrap();
-        let p = SoundSpeed::Isovelocity(1500.0);
+        let (p, fan, mut o) = point_fan_from_s(40);
         let t = Tracer::new(&p, &floor).unwrap();
-        let fan = Fan::Point {
-            x: 0.0,
-            z: 5.0,
-            min_deg: 4.0,
-            max_deg: 60.0,
-            rays: 40,
-        };
-        let mut o = InsonifyOptions::default();
-        o.trace.ds = 1.0;
         let full = insonify(&t, &fan, &o).unwrap();
         assert!(!full.truncated && full.unresolved.is_empty());
         let lit = full.length_fraction(&floor);
@@ -951,17 +957,8 @@ mod tests {
             }
         }
         // the ray tracer in isovelocity finds the same vertices
-        let p = SoundSpeed::Isovelocity(1500.0);
+        let (p, fan, o) = point_fan_from_s(50);
         let t = Tracer::new(&p, &floor).unwrap();
-        let fan = Fan::Point {
-            x: 0.0,
-            z: 5.0,
-            min_deg: 4.0,
-            max_deg: 60.0,
-            rays: 50,
-        };
-        let mut o = InsonifyOptions::default();
-        o.trace.ds = 1.0;
         let ins = insonify(&t, &fan, &o).unwrap();
         let first = floor
             .xs()
