@@ -1262,3 +1262,70 @@ fn a_ripple_netcdf_file_and_its_zarr_store_give_the_same_section() {
     );
     assert_eq!(a, b);
 }
+
+/// A relative path in a scenario file is read from the scenario's folder, from any working
+/// directory (`profile_table = "t.csv"` in `runs/s.toml` reads `runs/t.csv`); an absolute path
+/// is kept; a path typed on the command line is read from the working directory.
+#[test]
+fn scenario_paths_are_read_from_the_scenario_folder() {
+    let dir = tmp("scenario_paths");
+    let runs = dir.join("runs");
+    std::fs::create_dir_all(&runs).unwrap();
+    let table = std::fs::read_to_string("tests/fixtures/ssp.csv").unwrap();
+    std::fs::write(runs.join("t.csv"), &table).unwrap();
+    let scenario = "model = \"raytrace\"\nprofile = \"table\"\nprofile_table = \"t.csv\"\n\
+                    length = 2.0\n";
+    std::fs::write(runs.join("s.toml"), scenario).unwrap();
+    let json = |o: &std::process::Output| -> serde_json::Value {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    // from the folder above the scenario's, and from the scenario's own folder
+    let above = json(&cellsurf_in(
+        &dir,
+        &["raytrace", "--scenario", "runs/s.toml", "--json"],
+    ));
+    assert_eq!(above["parameters"]["profile_table"], "runs/t.csv");
+    let inside = json(&cellsurf_in(
+        &runs,
+        &["raytrace", "--scenario", "s.toml", "--json"],
+    ));
+    assert_eq!(inside["parameters"]["profile_table"], "t.csv");
+    assert_eq!(above["insonified_fraction"], inside["insonified_fraction"]);
+    // a path typed on the command line is read from the working directory, where there is no
+    // t.csv
+    let o = cellsurf_in(
+        &dir,
+        &[
+            "raytrace",
+            "--scenario",
+            "runs/s.toml",
+            "--profile-table",
+            "t.csv",
+        ],
+    );
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("--profile-table t.csv"), "{e}");
+    // an absolute path in the scenario is kept
+    let abs = runs.join("t.csv");
+    std::fs::write(
+        runs.join("abs.toml"),
+        scenario.replace("\"t.csv\"", &format!("{:?}", abs.to_str().unwrap())),
+    )
+    .unwrap();
+    let absolute = json(&cellsurf_in(
+        &dir,
+        &["raytrace", "--scenario", "runs/abs.toml", "--json"],
+    ));
+    assert_eq!(
+        absolute["parameters"]["profile_table"],
+        abs.to_str().unwrap()
+    );
+    // a missing file is named with the path read
+    std::fs::remove_file(runs.join("t.csv")).unwrap();
+    let o = cellsurf_in(&dir, &["raytrace", "--scenario", "runs/s.toml"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("runs/t.csv"), "{e}");
+}

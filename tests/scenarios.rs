@@ -215,14 +215,21 @@ enum Parsed {
     Tile(TileScenario),
 }
 
-/// A table file a raytrace scenario names (paths from the crate's folder, as the figures'
-/// scenarios are run from the repository root).
-fn read_table(path: &str) -> Result<String, String> {
-    fs::read_to_string(crate_dir().join(path)).map_err(|e| e.to_string())
+/// A table file a raytrace scenario names, read from `folder` (a file of `scenarios/` names
+/// its tables from that folder, as the program reads a scenario's paths; a scenario the program
+/// prints names them from the working directory, the crate's folder in these tests).
+fn read_table(folder: &Path, path: &str) -> Result<String, String> {
+    fs::read_to_string(folder.join(path)).map_err(|e| e.to_string())
 }
 
-/// Reads `text` with the parser of the model its `scene` (growth) or `model` key names.
+/// Reads `text` with the parser of the model its `scene` (growth) or `model` key names, the
+/// text of a file of `scenarios/`.
 fn parse(name: &str, text: &str) -> Parsed {
+    parse_from(name, text, &crate_dir().join("scenarios"))
+}
+
+/// [`parse`] for a scenario whose relative paths are read from `folder`.
+fn parse_from(name: &str, text: &str, folder: &Path) -> Parsed {
     let t: toml::Table = text
         .parse()
         .unwrap_or_else(|e| panic!("{name}: not TOML: {e}"));
@@ -242,7 +249,8 @@ fn parse(name: &str, text: &str) -> Parsed {
         Some("dunes") => Parsed::Dunes(DuneScenario::parse(text).unwrap_or_else(|e| fail(&e))),
         Some("cursor") => Parsed::Cursor(CursorScenario::parse(text).unwrap_or_else(|e| fail(&e))),
         Some("raytrace") => Parsed::Raytrace(
-            RaytraceScenario::parse(text, &read_table).unwrap_or_else(|e| fail(&e)),
+            RaytraceScenario::parse(text, &|p: &str| read_table(folder, p))
+                .unwrap_or_else(|e| fail(&e)),
         ),
         Some("tile") => Parsed::Tile(TileScenario::parse(text).unwrap_or_else(|e| fail(&e))),
         m => panic!("{name}: no `scene`, and `model` = {m:?} names no model with scenario files"),
@@ -438,7 +446,6 @@ fn the_figures_embed_the_scenario_files_as_they_are() {
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| !n.ends_with(".toml"))
-        .map(|n| format!("scenarios/{n}"))
         .collect();
     others.sort();
     let mut tables: Vec<&str> = cellsurf::figures::scenario_tables()
@@ -451,13 +458,11 @@ fn the_figures_embed_the_scenario_files_as_they_are() {
     );
     for (path, text) in cellsurf::figures::scenario_tables() {
         assert_eq!(
-            fs::read_to_string(crate_dir().join(path)).unwrap(),
+            fs::read_to_string(crate_dir().join("scenarios").join(path)).unwrap(),
             *text,
             "{path}"
         );
-        let stem = path
-            .trim_start_matches("scenarios/")
-            .trim_end_matches(".csv");
+        let stem = path.trim_end_matches(".csv");
         assert!(
             embedded.iter().any(|(n, t)| n == stem && t.contains(path)),
             "{path}: named by scenarios/{stem}.toml"
@@ -493,7 +498,7 @@ fn each_run_line_accepts_its_file_and_means_the_same_run() {
         args.push("--print-scenario");
         let printed = String::from_utf8(stdout_of(&name, &args)).unwrap();
         assert_eq!(
-            parse(&format!("{name} (printed)"), &printed),
+            parse_from(&format!("{name} (printed)"), &printed, &crate_dir()),
             parse(&name, &text),
             "{name}: the subcommand's scenario and the file are not the same run"
         );

@@ -1028,7 +1028,13 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
     let defaults = table(&args)?;
     let mut merged = defaults.clone();
     let mut from_file = Vec::new();
+    let folder = path.parent().unwrap_or(Path::new(""));
     for (k, v) in file {
+        let v = if PATH_KEYS.contains(&k.as_str()) {
+            beside(folder, v)
+        } else {
+            v
+        };
         if is_io(&k) || !merged.contains_key(&k) && !known_option(&k) {
             bail!(
                 "{flag} {}: '{k}' is not a parameter of `cellsurf {model}` (print one with \
@@ -1058,6 +1064,35 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
             }
             Err(e).with_context(|| format!("in {flag} {}", path.display()))
         }
+    }
+}
+
+/// Keys that name an input file (or a list of them): in a scenario file a relative path is
+/// read from the scenario's folder, as a relative path on the command line is read from the
+/// working directory.
+pub const PATH_KEYS: [&str; 8] = [
+    "tile",
+    "ripple_scenario",
+    "wind_image",
+    "profile_table",
+    "temperature_table",
+    "salinity_table",
+    "seafloor_csv",
+    "seafloor",
+];
+
+/// A scenario's path value (a string, or an array of them) read from the scenario's `folder`:
+/// a relative path is joined to it, an absolute one is kept; other values are kept as they are
+/// (the option's own parser names them).
+fn beside(folder: &Path, v: toml::Value) -> toml::Value {
+    match v {
+        toml::Value::String(s) if !s.is_empty() && Path::new(&s).is_relative() => {
+            toml::Value::String(folder.join(&s).to_string_lossy().into_owned())
+        }
+        toml::Value::Array(a) => {
+            toml::Value::Array(a.into_iter().map(|x| beside(folder, x)).collect())
+        }
+        other => other,
     }
 }
 

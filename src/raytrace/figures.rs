@@ -54,9 +54,10 @@ pub const SCENARIOS: &[(&str, &str)] = crate::plot::scenario_files![
     "ripple_fig5_raytrace_table",
 ];
 
-/// The sound-speed tables the scenario files name, by the path written in them.
+/// The sound-speed tables the scenario files name, by the path written in them (from the
+/// scenarios' folder).
 pub const TABLES: &[(&str, &str)] = &[(
-    "scenarios/ripple_fig5_raytrace_table.csv",
+    "ripple_fig5_raytrace_table.csv",
     include_str!("../../scenarios/ripple_fig5_raytrace_table.csv"),
 )];
 
