@@ -112,6 +112,26 @@ fn scene_file_and_bad_input() {
     let o = cellsurf(&["ripple", "--steps", "10", "--snapshots", "20"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("snapshots"));
+    // snapshots out of order or twice are refused, not sorted
+    for list in ["3,2", "2,2", "0,5,3"] {
+        let o = cellsurf(&[
+            "ripple",
+            "--size",
+            "8x4",
+            "--layers",
+            "2",
+            "--steps",
+            "5",
+            "--snapshots",
+            list,
+        ]);
+        assert!(!o.status.success(), "{list}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains(&format!("--snapshots = {list}")) && e.contains("strictly increasing"),
+            "{e}"
+        );
+    }
     let o = cellsurf(&[
         "ripple",
         "--acoustics",

@@ -1064,6 +1064,18 @@ pub fn run(a: Args) -> Result<()> {
             (EARLIEST_STOP as f64 * c.step_s).ceil()
         ));
     }
+    if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
+        bail!(
+            "snapshots = {} is out of range: expected steps strictly increasing ({} is not after {})",
+            times
+                .iter()
+                .map(u64::to_string)
+                .collect::<Vec<_>>()
+                .join(","),
+            w[1],
+            w[0]
+        );
+    }
     if let Some(&t) = times.iter().find(|&&t| t > cap) {
         bail!(
             "snapshots = {t} is out of range: expected steps in [0, steps = {}]",

@@ -173,14 +173,16 @@ impl StepClock {
             });
         }
         let n = (seconds / self.step_s).round();
-        if !(n.is_finite() && n <= 1e12) {
+        // (the steps' own limit, 2^40)
+        let most = (1u64 << 40) as f64;
+        if !(n.is_finite() && n <= most) {
             return Err(RippleError::Range {
                 parameter: "duration",
                 value: shown,
                 expected: format!(
-                    "at most 1e12 steps of {:.4} s ({:.3e} s)",
+                    "at most 2^40 steps (the limit of steps) of {:.4} s ({:.3e} s)",
                     self.step_s,
-                    1e12 * self.step_s
+                    most * self.step_s
                 ),
             });
         }

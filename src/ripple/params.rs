@@ -365,6 +365,38 @@ fn check_f(
 }
 
 impl RippleParams {
+    /// `layer_thickness` is a number in `(0, bin_size x tan(avalanche_angle)]`: one automaton
+    /// over one bin is a slope no steeper than the avalanche angle, which the lattice must hold
+    /// (the avalanche rule moves whole automata). `bin_size` and `avalanche_angle` are checked
+    /// first.
+    fn check_layer_thickness(&self) -> Result<(), RippleError> {
+        let v = self.layer_thickness;
+        if v.is_finite() && v > 0.0 && self.lattice_slope_deg() <= self.avalanche_angle {
+            return Ok(());
+        }
+        let steeper = if v.is_finite() && v > 0.0 {
+            format!(
+                ": one automaton of layer_thickness over one bin of bin_size is a slope of {:.1} \
+                 deg, steeper than the avalanche angle, which the lattice cannot hold (the \
+                 avalanche rule moves grains in whole automata)",
+                self.lattice_slope_deg()
+            )
+        } else {
+            String::new()
+        };
+        let max = rounded(self.bin_size * self.avalanche_angle.to_radians().tan());
+        Err(range(
+            "layer_thickness",
+            shown(v),
+            &format!(
+                "a number in (0, {max}]: at most bin_size x tan(avalanche_angle) = {max} m \
+                 (bin_size = {} m, avalanche_angle = {} deg){steeper}",
+                shown(self.bin_size),
+                self.avalanche_angle,
+            ),
+        ))
+    }
+
     /// Reads a TOML scene, a `cellsurf ripple` scenario file: the same keys as the fields,
     /// unknown keys rejected, missing keys default, and `model = "ripple"` (which
     /// `--print-scenario` writes; optional here, another model refused). The result is
@@ -582,13 +614,14 @@ impl RippleParams {
         }
         check_f("bin_size", self.bin_size, 0.0, 100.0, true, false)?;
         check_f(
-            "layer_thickness",
-            self.layer_thickness,
+            "avalanche_angle",
+            self.avalanche_angle,
             0.0,
-            self.bin_size,
+            90.0,
             true,
-            false,
+            true,
         )?;
+        self.check_layer_thickness()?;
         if self.steps > 1 << 40 {
             return Err(range("steps", self.steps, "an integer in [0, 2^40]"));
         }
@@ -634,27 +667,6 @@ impl RippleParams {
                     "no wave angle in 2-D mode (the section runs along the current, and so do its waves)",
                 ));
             }
-        }
-        check_f(
-            "avalanche_angle",
-            self.avalanche_angle,
-            0.0,
-            90.0,
-            true,
-            true,
-        )?;
-        if self.lattice_slope_deg() > self.avalanche_angle {
-            return Err(range(
-                "layer_thickness",
-                shown(self.layer_thickness),
-                &format!(
-                    "at most bin_size x tan(avalanche_angle) = {} m (bin_size = {} m, avalanche_angle = {} deg): one automaton of layer_thickness over one bin of bin_size is a slope of {:.1} deg, steeper than the avalanche angle, which the lattice cannot hold (the avalanche rule moves grains in whole automata)",
-                    rounded(self.bin_size * self.avalanche_angle.to_radians().tan()),
-                    shown(self.bin_size),
-                    self.avalanche_angle,
-                    self.lattice_slope_deg()
-                ),
-            ));
         }
         check_f(
             "stoss_angle",
@@ -882,6 +894,33 @@ mod tests {
         assert_eq!(e.frame_angle(), 0.0);
         assert_eq!(e.lattice_current_angle(), 180.0);
         assert_eq!(e.lattice_flow_angle(), 180.0);
+    }
+
+    /// The range a refused `layer_thickness` states is the one the check applies: its upper end
+    /// (rounded to four figures) is accepted a little below and refused a little above, for
+    /// other bins and avalanche angles too.
+    #[test]
+    fn layer_thickness_states_the_range_it_applies() {
+        for (bin_size, avalanche_angle) in [(0.005, 32.0), (0.002, 20.0), (0.01, 45.0)] {
+            let at = |layer_thickness: f64| RippleParams {
+                bin_size,
+                avalanche_angle,
+                layer_thickness,
+                ..RippleParams::default()
+            };
+            for bad in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+                let e = at(bad).validate().unwrap_err().to_string();
+                let stated = e
+                    .split("a number in (0, ")
+                    .nth(1)
+                    .and_then(|r| r.split(']').next())
+                    .unwrap_or_else(|| panic!("no range in: {e}"));
+                let max: f64 = stated.parse().unwrap();
+                assert!(at(max * 0.999).validate().is_ok(), "{e}");
+                assert!(at(max * 1.001).validate().is_err(), "{e}");
+                assert!(e.contains("layer_thickness"), "{e}");
+            }
+        }
     }
 
     #[test]
