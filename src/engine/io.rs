@@ -191,6 +191,15 @@ pub fn short(text: &str) -> String {
     }
 }
 
+/// A NetCDF-3 writer's error as a message: an I/O error's own text (the writer keeps only its
+/// kind: "no storage space"), else the writer's description, shortened.
+pub fn netcdf_write_reason(e: &netcdf3::WriteError) -> String {
+    match e {
+        netcdf3::WriteError::IOErrorKind(k) => io::Error::from(*k).to_string(),
+        other => short(&format!("NetCDF-3 writer: {other:?}")),
+    }
+}
+
 /// Set once the run is being interrupted ([`remove_live_temporaries`]).
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
@@ -316,6 +325,26 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A disk-full NetCDF write is said as the I/O error's text, as the other formats say it,
+    /// not as the writer's type name.
+    #[test]
+    fn netcdf_write_reason_says_the_io_error() {
+        for kind in [io::ErrorKind::StorageFull, io::ErrorKind::PermissionDenied] {
+            let r = netcdf_write_reason(&netcdf3::WriteError::IOErrorKind(kind));
+            assert_eq!(r, io::Error::from(kind).to_string());
+            assert!(
+                !r.contains("IOErrorKind") && !r.contains("StorageFull"),
+                "{r}"
+            );
+        }
+        assert_eq!(
+            netcdf_write_reason(&netcdf3::WriteError::IOErrorKind(
+                io::ErrorKind::StorageFull
+            )),
+            "no storage space"
+        );
+    }
 
     #[test]
     fn atomic_write_replaces_whole_file_and_leaves_no_temporary() {

@@ -243,6 +243,15 @@ fn out_err(path: &Path, e: impl std::fmt::Debug) -> RippleError {
     }
 }
 
+/// A NetCDF writer's error on `path`: an I/O error's own text ("no storage space"), else the
+/// writer's description.
+fn nc_err(path: &Path, e: netcdf3::WriteError) -> RippleError {
+    RippleError::Output {
+        path: path.display().to_string(),
+        reason: crate::engine::io::netcdf_write_reason(&e),
+    }
+}
+
 fn io_err(path: &Path, e: std::io::Error) -> RippleError {
     RippleError::Output {
         path: path.display().to_string(),
@@ -439,35 +448,35 @@ pub fn write_netcdf_with(
         let file = fs::File::create(tmp.path()).map_err(|x| io_err(path, x))?;
         let tmp_str = tmp.path().to_string_lossy().to_string();
         let mut w = FileWriter::open_seek_write(&tmp_str, Box::new(BufWriter::new(file)))
-            .map_err(|x| out_err(path, x))?;
+            .map_err(|x| nc_err(path, x))?;
         w.set_def(&ds, Version::Offset64Bit, 0)
-            .map_err(|x| out_err(path, x))?;
+            .map_err(|x| nc_err(path, x))?;
         let dx = p.bin_size;
         let xs: Vec<f32> = (0..nx).map(|i| ((i as f64 + 0.5) * dx) as f32).collect();
         let ys: Vec<f32> = (0..ny).map(|i| ((i as f64 + 0.5) * dx) as f32).collect();
-        w.write_var_f32("x", &xs).map_err(|x| out_err(path, x))?;
-        w.write_var_f32("y", &ys).map_err(|x| out_err(path, x))?;
+        w.write_var_f32("x", &xs).map_err(|x| nc_err(path, x))?;
+        w.write_var_f32("y", &ys).map_err(|x| nc_err(path, x))?;
         if want_elev {
             let ts: Vec<f64> = snapshots.iter().map(|s| s.0 as f64).collect();
-            w.write_var_f64("time", &ts).map_err(|x| out_err(path, x))?;
+            w.write_var_f64("time", &ts).map_err(|x| nc_err(path, x))?;
             let mut all = Vec::with_capacity(snapshots.len() * nx * ny);
             for s in snapshots {
                 all.extend_from_slice(&s.1);
             }
             w.write_var_f32("elevation", &all)
-                .map_err(|x| out_err(path, x))?;
+                .map_err(|x| nc_err(path, x))?;
         }
         if !vol_fields.is_empty() && nz > 0 {
             let gd = p.layer_thickness;
             let zs: Vec<f32> = (0..nz).map(|k| ((k as f64 + 0.5) * gd) as f32).collect();
-            w.write_var_f32("z", &zs).map_err(|x| out_err(path, x))?;
+            w.write_var_f32("z", &zs).map_err(|x| nc_err(path, x))?;
             for &f in &vol_fields {
                 let data = volume_field(r, f, NC_FILL_F32);
                 w.write_var_f32(f.name(), &data)
-                    .map_err(|x| out_err(path, x))?;
+                    .map_err(|x| nc_err(path, x))?;
             }
         }
-        w.close().map_err(|x| out_err(path, x))?;
+        w.close().map_err(|x| nc_err(path, x))?;
     }
     fs::File::open(tmp.path())
         .and_then(|f| f.sync_all())

@@ -159,10 +159,7 @@ fn out_err(path: &Path, e: impl std::fmt::Display) -> TileError {
 /// A NetCDF writer's error as a message: an I/O error's own text, else the writer's
 /// description.
 fn nc_err(path: &Path, e: netcdf3::WriteError) -> TileError {
-    match e {
-        netcdf3::WriteError::IOErrorKind(k) => out_err(path, std::io::Error::from(k)),
-        other => out_err(path, format!("NetCDF-3 writer: {other:?}")),
-    }
+    out_err(path, crate::engine::io::netcdf_write_reason(&e))
 }
 
 /// The files of a `.npy` stream to `path`, in order: `STEM.npy` (elevation), `STEM_FIELD.npy`
