@@ -394,5 +394,67 @@ fn figures_and_converge_warn_of_flags_they_do_not_use() {
         err.contains("--out-dir") && err.contains("not a folder"),
         "{err}"
     );
+    // a folder that cannot be made is named with the flag and the path
+    let below = file.join("sub");
+    let out = common::cellsurf(&[
+        "figures",
+        "--only",
+        "growth_fig3_ca",
+        "--out-dir",
+        below.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains(&format!("cannot create --out-dir {}", below.display())),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A GIF or a series asked for with more frames or rows than the run has timesteps has one a
+/// timestep (the initial state included), and says so; within the timesteps, as many as asked.
+#[test]
+fn frames_and_series_beyond_the_timesteps_are_one_a_timestep_and_said() {
+    let (gif, csv) = (tmp("ten.gif"), tmp("ten.csv"));
+    let (g, c) = (gif.to_str().unwrap(), csv.to_str().unwrap());
+    let run = |frames: &str, series: &str| {
+        let o = common::cellsurf(&[
+            "grow",
+            "--size",
+            "16",
+            "--steps",
+            "10",
+            "--gif-frames",
+            frames,
+            "--series",
+            series,
+            "--out",
+            g,
+            "--out",
+            c,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let rows = std::fs::read_to_string(&csv)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .count()
+            - 1;
+        (
+            common::gif_frames(&gif),
+            rows,
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (frames, rows, err) = run("2000", "1000");
+    assert_eq!((frames, rows), (11, 11), "{err}");
+    assert!(
+        err.contains("--gif-frames = 2000 is more than the run's 10 timesteps")
+            && err.contains("--series = 1000 is more than the run's 10 timesteps"),
+        "{err}"
+    );
+    let (frames, rows, err) = run("5", "4");
+    assert_eq!((frames, rows), (6, 5), "{err}");
+    assert!(!err.contains("warning"), "{err}");
 }

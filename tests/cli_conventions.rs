@@ -156,6 +156,20 @@ fn printed_scenario_reruns_the_same_run() {
         p.push("--print-scenario");
         let out = cellsurf(&p);
         assert!(out.status.success(), "{sub}");
+        // the scenario records the version that wrote it and the command that runs it
+        let first = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .to_string();
+        assert_eq!(
+            first,
+            format!(
+                "# cellsurf {} scenario: `cellsurf {sub} --scenario FILE`",
+                env!("CARGO_PKG_VERSION")
+            ),
+            "{sub}"
+        );
         let file = dir.join("s.toml");
         std::fs::write(&file, &out.stdout).unwrap();
         let f = file.display().to_string();

@@ -1213,17 +1213,7 @@ mod cli {
         );
     }
 
-    /// Frames in a GIF file.
-    fn gif_frames(path: &std::path::Path) -> usize {
-        let mut dec = gif::DecodeOptions::new()
-            .read_info(std::fs::File::open(path).unwrap())
-            .unwrap();
-        let mut n = 0;
-        while dec.next_frame_info().unwrap().is_some() {
-            n += 1;
-        }
-        n
-    }
+    use super::common::gif_frames;
 
     #[test]
     fn the_gif_holds_the_initial_state_and_gif_frames_more() {

@@ -65,10 +65,20 @@ pub fn run(a: FiguresArgs) -> Result<()> {
             a.out_dir.display()
         );
     }
+    let dir = a.out_dir.display();
+    std::fs::create_dir_all(&a.out_dir)
+        .with_context(|| format!("cannot create --out-dir {dir}"))?;
+    // (a folder the run cannot write in is named before any figure is drawn)
+    let probe = a
+        .out_dir
+        .join(format!(".cellsurf-write-check-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .and_then(|()| std::fs::remove_file(&probe))
+        .with_context(|| format!("cannot write in --out-dir {dir}"))?;
     let t0 = Instant::now();
     for f in chosen {
-        let files =
-            figures::make(f, &a.out_dir, false).with_context(|| format!("figure {}", f.name))?;
+        let files = figures::make(f, &a.out_dir, false)
+            .with_context(|| format!("figure {} (into --out-dir {dir})", f.name))?;
         for p in files {
             conv::wrote(&p);
         }

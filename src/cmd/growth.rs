@@ -74,7 +74,8 @@ pub struct GrowArgs {
     /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
     #[arg(long, value_parser = conv::parse_seed)]
     seed: Option<u64>,
-    /// Number of evenly spaced times at which observables are recorded (for a .csv output).
+    /// Number of evenly spaced times at which observables are recorded (for a .csv output); at
+    /// most one a timestep.
     #[arg(long, value_parser = conv::parse_usize)]
     series: Option<usize>,
     /// Output file, repeatable; the extension picks the format: .png (the snapshots), .gif
@@ -87,7 +88,8 @@ pub struct GrowArgs {
     /// Old spelling of `--out FILE.gif` (kept for one release).
     #[arg(long, value_name = "FILE.gif", hide = true)]
     gif: Option<PathBuf>,
-    /// Frames in the GIF after the initial state (which the GIF also shows), 1 to 2000.
+    /// Frames in the GIF after the initial state (which the GIF also shows), 1 to 2000; at most
+    /// one a timestep.
     #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
@@ -560,7 +562,12 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     let cfg = config(scene, &a)?;
     let scene = cfg.scene;
     if a.print_scenario {
-        out!("{}", cfg.to_toml())?;
+        out!(
+            "# cellsurf {} scenario: `cellsurf {} --scenario FILE`\n{}",
+            cellsurf::engine::VERSION,
+            scene.name(),
+            cfg.to_toml()
+        )?;
         return Ok(());
     }
     // 4 bytes per cell, a surface of up to a few bytes per cell, and a snapshot or frame of
@@ -612,11 +619,30 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         )?),
         None => None,
     };
+    // (frames and series points fall on whole timesteps: a run of fewer timesteps than asked
+    // for has one a timestep, and says so)
+    let fewer = |what: &str, asked: usize, file: &str, unit: &str| {
+        if !by_events && asked as u64 > cfg.steps {
+            conv::note(format_args!(
+                "warning: {} = {asked} is more than the run's {} timesteps: the {file} has one \
+                 {unit} a timestep, {} in all",
+                conv::typed_flag(what).unwrap_or_else(|| format!("--{}", what.replace('_', "-"))),
+                cfg.steps,
+                cfg.steps + 1
+            ));
+        }
+    };
+    if outs.get(Format::Csv).is_some() {
+        fewer("series", cfg.series, ".csv", "row");
+    }
     let frames = if gif.is_some() && !by_events {
+        fewer("gif_frames", a.gif_frames, ".gif", "frame");
         let k = a.gif_frames.max(1) as u64;
-        (0..=k)
+        let mut f: Vec<f64> = (0..=k)
             .map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64)
-            .collect()
+            .collect();
+        f.dedup();
+        f
     } else {
         Vec::new()
     };

@@ -20,6 +20,19 @@ pub fn tmp_in(tag: &str, name: &str) -> PathBuf {
     d.join(name)
 }
 
+/// Frames in a GIF file.
+#[cfg(feature = "plot")]
+pub fn gif_frames(path: &std::path::Path) -> usize {
+    let mut dec = gif::DecodeOptions::new()
+        .read_info(std::fs::File::open(path).unwrap())
+        .unwrap();
+    let mut n = 0;
+    while dec.next_frame_info().unwrap().is_some() {
+        n += 1;
+    }
+    n
+}
+
 /// The `parameters` text (iTXt chunk) that a PNG written by cellsurf records.
 pub fn png_parameters(path: &std::path::Path) -> Option<String> {
     let dec = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).ok()?));
