@@ -1,8 +1,10 @@
 //! `cellsurf tile --out X.zarr` written by independent processes: four parts run at once give
 //! the single-process store byte for byte; a part killed mid-write leaves no half-written
 //! chunk, `--check` reports what is missing (and a damaged chunk), and re-running the part
-//! repairs the store; `--part` and `--chunk-tiles` errors name the flag, the value and the
-//! range.
+//! repairs the store; a part whose chunk write fails says the store is incomplete and how to
+//! finish it; a folder that is not a store is refused before the run (an empty one is taken
+//! by parts and `--init`); `--part` and `--chunk-tiles` errors name the flag, the value and
+//! the range.
 #![cfg(feature = "cli")]
 
 mod common;
@@ -643,5 +645,146 @@ fn a_store_reports_the_seams_slopes_and_rate_of_the_streams() {
         kept["rows_per_s"].is_null() && kept["mb_per_s"].is_null(),
         "{kept}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A store of 4 x 4 chunks of one tile each, written in a moment.
+fn tiny(out: &Path, extra: &[&str]) -> std::process::Output {
+    let p = out.display().to_string();
+    let mut a = vec![
+        "tile",
+        "--generate",
+        "--size",
+        "8x4",
+        "--layers",
+        "2",
+        "--steps",
+        "5",
+        "--mosaic",
+        "4x4",
+        "--chunk-tiles",
+        "1x1",
+        "--quiet",
+        "--out",
+        &p,
+    ];
+    a.extend_from_slice(extra);
+    cellsurf(&a)
+}
+
+/// The names in folder `dir`.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_folder_that_is_not_a_store_is_refused_before_the_run() {
+    let dir = tmp("not-a-store");
+    // a folder of other files: refused by a whole run, a part and --init alike, untouched
+    let mine = dir.join("mydata.zarr");
+    std::fs::create_dir_all(mine.join("sub")).unwrap();
+    std::fs::write(mine.join("notes.txt"), "precious").unwrap();
+    let before = files(&mine);
+    let p = mine.display().to_string();
+    for extra in [&[][..], &["--part", "0/2"], &["--part", "0/1"], &["--init"]] {
+        let o = tiny(&mine, extra);
+        refused(
+            &o,
+            &[&format!(
+                "--out {p}: exists and is not a Zarr store (no zarr.json; it holds notes.txt, sub); remove it or choose another name"
+            )],
+        );
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("panicked"));
+        assert_eq!(files(&mine), before, "{extra:?} wrote into {mine:?}");
+        assert_eq!(names(&mine), ["notes.txt", "sub"], "{extra:?}");
+        assert_eq!(
+            names(&dir),
+            ["mydata.zarr"],
+            "{extra:?} left a file beside it"
+        );
+    }
+    // an empty folder: a whole run (a new store, renamed into place) refuses it, untouched ...
+    let empty = dir.join("empty.zarr");
+    std::fs::create_dir(&empty).unwrap();
+    refused(
+        &tiny(&empty, &[]),
+        &[
+            "--out",
+            "empty.zarr: exists and is not a Zarr store (no zarr.json); remove it or choose another name",
+            "--part and --init write into an empty folder",
+        ],
+    );
+    assert_eq!(names(&empty), Vec::<String>::new());
+    // ... parts write into it (a cluster's set-up may make the folder first), as --init does
+    for part in ["0/2", "1/2"] {
+        let o = tiny(&empty, &["--part", part]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert!(check(&empty, &[]).0);
+    let init = dir.join("init.zarr");
+    std::fs::create_dir(&init).unwrap();
+    assert!(tiny(&init, &["--init"]).status.success());
+    // a store is finished in place by a whole run; a folder holding only what a part writes
+    // before the store's root document (its arrays' metadata) is taken by a part
+    assert!(tiny(&init, &[]).status.success());
+    assert!(check(&init, &[]).0);
+    let made = dir.join("made.zarr");
+    assert!(tiny(&made, &["--init"]).status.success());
+    std::fs::remove_file(made.join("zarr.json")).unwrap();
+    assert!(tiny(&made, &["--part", "0/1"]).status.success());
+    assert!(check(&made, &[]).0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_part_that_fails_writing_a_chunk_says_the_store_is_incomplete() {
+    let dir = tmp("chunk-fails");
+    std::fs::create_dir_all(&dir).unwrap();
+    let store = dir.join("p.zarr");
+    let s = store.display().to_string();
+    assert!(tiny(&store, &["--init"]).status.success());
+    // a folder where chunk [1, 1] must go: writing that chunk fails (as on a full disk)
+    let blocker = store.join("elevation/c/1/1");
+    std::fs::create_dir_all(blocker.join("x")).unwrap();
+    for (extra, rerun) in [
+        (
+            &["--part", "0/1"][..],
+            "re-run the same command (--part 0/1)",
+        ),
+        (&[][..], "re-run the same command to finish it"),
+    ] {
+        let o = tiny(&store, extra);
+        refused(
+            &o,
+            &[
+                &format!("writing {s}/elevation chunk [1, 1]"),
+                &format!("the store is incomplete: {s} keeps the chunks written so far, whole"),
+                rerun,
+                &format!("`cellsurf tile --check {s}`"),
+            ],
+        );
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("panicked"));
+        let (ok, v) = check(&store, &[]);
+        assert!(!ok, "{v}");
+    }
+    // a part refused before it writes (other parameters) leaves the store as it was: no hint
+    let o = tiny(&store, &["--part", "0/1", "--seed", "9"]);
+    refused(&o, &["other parameters"]);
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("incomplete"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // the cause mended, the same part finishes the store
+    std::fs::remove_dir_all(&blocker).unwrap();
+    let o = tiny(&store, &["--part", "0/1"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(check(&store, &[]).0);
     std::fs::remove_dir_all(&dir).unwrap();
 }

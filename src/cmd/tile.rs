@@ -22,8 +22,8 @@ use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
 use cellsurf::tile::zarr::{
-    Part, TILES_DIGEST, ZarrLayout, check_zarr, init_zarr, verify_zarr, write_zarr,
-    write_zarr_whole,
+    Part, TILES_DIGEST, ZarrLayout, check_store_target, check_zarr, init_zarr, is_store,
+    verify_zarr, write_zarr, write_zarr_whole,
 };
 use cellsurf::tile::{
     ANGLE_OF_REPOSE_DEG, Choose, DuneParams, GenerateOptions, Mosaic, Relief, RippledDunes,
@@ -675,7 +675,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     if let Some(out) = &out {
         if zarr {
-            check_store_path("--out", out)?;
+            check_store_path("--out", out, part.is_some() || a.init)?;
         } else {
             cellsurf::engine::io::check_output("--out", out)?;
             if format == StreamFormat::Npy {
@@ -1139,30 +1139,11 @@ pub fn run(a: Args) -> Result<()> {
     Ok(())
 }
 
-/// A Zarr store's folder: its parent exists, and it is absent or a folder (not a link).
-fn check_store_path(option: &str, path: &std::path::Path) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => std::path::Path::new("."),
-    };
-    if !dir.is_dir() {
-        bail!(
-            "{option} {}: the folder {} does not exist",
-            path.display(),
-            dir.display()
-        );
-    }
-    match std::fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_symlink() => bail!(
-            "{option} {}: is a symbolic link; give the folder it points to",
-            path.display()
-        ),
-        Ok(m) if !m.is_dir() => bail!(
-            "{option} {}: exists and is not a folder (a Zarr store is a folder)",
-            path.display()
-        ),
-        _ => Ok(()),
-    }
+/// Checks the path of a Zarr store before the run ([`check_store_target`]): absent, a store,
+/// or (`in_place`: a part or `--init`) an empty folder; errors name `option` and the path.
+fn check_store_path(option: &str, path: &std::path::Path, in_place: bool) -> Result<()> {
+    check_store_target(path, in_place)
+        .map_err(|why| anyhow::anyhow!("{option} {}: {why}", path.display()))
 }
 
 /// The options of the rippled dunes (`--dunes`).
@@ -1321,7 +1302,8 @@ type Summary<'a> = dyn Fn(Option<&SeamStats>, u64, f64, f64) -> serde_json::Valu
 /// Writes a Zarr store (all of it, one part, or its metadata with `init`). Without a part, a
 /// new store is written into a temporary folder and moved into place when complete
 /// ([`write_zarr_whole`]); a part, or a run that finishes an existing store, writes in place,
-/// and an interrupt (Ctrl-C) then says on stderr what was left and how to finish it.
+/// and an interrupt (Ctrl-C) or an error while writing its chunks (a full disk) then says on
+/// stderr that the store is incomplete, what was left and how to finish and check it.
 fn write_store(
     out: &std::path::Path,
     src: &dyn RowSource,
@@ -1372,22 +1354,32 @@ fn write_store(
         quiet,
     );
     let progress = |d: usize| bar.set_position(d as u64);
-    let in_place = o.part.is_some() || std::fs::symlink_metadata(out).is_ok();
+    let in_place = o.part.is_some() || is_store(out);
     let rep = if in_place {
         let rerun = match o.part {
             Some(p) => format!("the same command (--part {}/{})", p.index, p.count),
             None => "the same command".into(),
         };
-        let _said = conv::say_on_interrupt(format!(
-            "interrupted: {} keeps the chunks written so far, whole (a chunk is renamed into place when complete); re-run {rerun} to finish it (its complete chunks are kept), or `cellsurf tile --check {}` to list what is missing",
-            out.display(),
+        let kept = format!(
+            "{} keeps the chunks written so far, whole (a chunk is renamed into place when complete)",
             out.display()
-        ));
-        write_zarr(out, src, spec, o.tiles, part, progress)
+        );
+        let finish = format!(
+            "re-run {rerun} to finish it (its complete chunks are kept), or `cellsurf tile --check {}` to list what is missing",
+            out.display()
+        );
+        let _said = conv::say_on_interrupt(format!("interrupted: {kept}; {finish}"));
+        // The metadata first: a store made with other parameters is refused as it was; a
+        // failure after it (writing a chunk: a full disk, say) leaves a partial store, said so.
+        init_zarr(out, src, spec, o.tiles).map_err(tiles_hint)?;
+        write_zarr(out, src, spec, o.tiles, part, progress).map_err(|e| {
+            anyhow::anyhow!(
+                "{e}\nthe store is incomplete: {kept}; once the cause of the error is mended, {finish}"
+            )
+        })?
     } else {
-        write_zarr_whole(out, src, spec, o.tiles, progress)
-    }
-    .map_err(tiles_hint)?;
+        write_zarr_whole(out, src, spec, o.tiles, progress).map_err(tiles_hint)?
+    };
     bar.finish_and_clear();
     let el = rep.elapsed_s;
     let rows = rep.bins as f64 / layout.width.max(1) as f64;

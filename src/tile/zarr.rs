@@ -14,6 +14,8 @@
 //!   finishes the store; the seam statistic and the slopes are measured as the chunks are
 //!   computed ([`ZarrReport::seams`]). [`init_zarr`] writes the metadata alone (`--init`).
 //!   [`write_zarr_whole`]: one process's new store, through a temporary folder.
+//!   [`check_store_target`]: what a run may find at a store's path (nothing, a store, or an
+//!   empty folder for a part), checked before it starts.
 //! - [`check_zarr`]: the missing and damaged chunks of a store and the temporary files
 //!   killed writers left ([`ZarrCheck`]); [`verify_zarr`]: whether a store was made with given
 //!   parameters and tiles (their digest, [`TILES_DIGEST`]).
@@ -39,7 +41,8 @@ use super::seam::{SeamBlock, SeamStats, SeamSums};
 use super::stream::{RowSource, StreamSpec};
 use crate::engine::VERSION;
 use crate::engine::zarr::{
-    ArraySpec, ChunkState, Dtype, Store, ZarrError, attrs, remove_temporaries_in, toml_to_json,
+    ArraySpec, ChunkState, Dtype, Store, ZarrError, attrs, is_temporary, remove_temporaries_in,
+    toml_to_json,
 };
 
 /// Values (elevation and volume) a chunk aims at: 2^20, 4 MB of float32.
@@ -523,11 +526,109 @@ pub fn write_zarr(
     })
 }
 
+/// Whether `path` is a Zarr store: a folder with a root `zarr.json`, which a run finishes in
+/// place.
+pub fn is_store(path: &Path) -> bool {
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.is_dir()) && path.join("zarr.json").is_file()
+}
+
+/// The entries of the folder `path` (a store without its root `zarr.json`) that no writer of a
+/// store made: anything but the arrays' folders with their metadata alone and temporary files
+/// (`.NAME.tmp-PID`), which another part leaves there while it creates the store's metadata.
+fn foreign_entries(path: &Path) -> Result<Vec<String>, String> {
+    let arrays: Vec<&str> = ["x", "y", "z"]
+        .into_iter()
+        .chain(crate::ripple::output::Field::ALL.iter().map(|f| f.name()))
+        .collect();
+    let list = |dir: &Path| -> Result<Vec<(String, bool)>, String> {
+        let rd = std::fs::read_dir(dir).map_err(|e| format!("cannot be read: {e}"))?;
+        Ok(rd
+            .flatten()
+            .map(|e| {
+                let dir = e.file_type().is_ok_and(|t| t.is_dir());
+                (e.file_name().to_string_lossy().into_owned(), dir)
+            })
+            .collect())
+    };
+    let temporary = |name: &str, dir: bool| !dir && is_temporary(Path::new(name));
+    let mut other = Vec::new();
+    for (name, dir) in list(path)? {
+        let made = temporary(&name, dir)
+            || (dir
+                && arrays.contains(&name.as_str())
+                && list(&path.join(&name))?
+                    .iter()
+                    .all(|(n, d)| (n == "zarr.json" && !d) || temporary(n, *d)));
+        if !made {
+            other.push(name);
+        }
+    }
+    other.sort();
+    Ok(other)
+}
+
+/// Checks, before a run writes anything, that a tile store can be written at `path`: its
+/// folder exists, and `path` is absent (a new store) or a Zarr store ([`is_store`]: parts,
+/// `--init` or an earlier run made it), which the run finishes in place. With `in_place` (a
+/// part, or the metadata alone, written into the folder itself) an existing folder may also be
+/// empty, or hold only what another part writes before the store's root document (its arrays'
+/// metadata and temporary files). Anything else (a file, a link, a folder with other content)
+/// is refused, never written into; the error says why and what to do.
+pub fn check_store_target(path: &Path, in_place: bool) -> Result<(), String> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(format!("the folder {} does not exist", dir.display()));
+    }
+    let meta = match std::fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(_) => return Ok(()),
+    };
+    if meta.file_type().is_symlink() {
+        return Err("is a symbolic link; give the folder it points to".into());
+    }
+    if !meta.is_dir() {
+        return Err(
+            "exists and is not a folder (a Zarr store is a folder); remove it or choose another name"
+                .into(),
+        );
+    }
+    if is_store(path) {
+        return Ok(());
+    }
+    let other = foreign_entries(path)?;
+    if other.is_empty() && in_place {
+        return Ok(());
+    }
+    let holds = if other.is_empty() {
+        String::new()
+    } else {
+        let mut names = other.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+        if other.len() > 3 {
+            names.push_str(&format!(" and {} more", other.len() - 3));
+        }
+        format!("; it holds {names}")
+    };
+    // (only a whole run refuses a folder without other content)
+    let empty_ok = if other.is_empty() {
+        " (a new store is written beside it and renamed into place; --part and --init write into an empty folder)"
+    } else {
+        ""
+    };
+    Err(format!(
+        "exists and is not a Zarr store (no zarr.json{holds}); remove it or choose another name{empty_ok}"
+    ))
+}
+
 /// Writes the whole store (every chunk) as one output: a store absent at `path` is written
 /// into a temporary folder beside it (`.NAME.tmp-PID`) and moved into place only once complete
 /// ([`crate::engine::io::publish`]), so that a failed or interrupted run leaves no store under
 /// its name (the `cellsurf` program removes the folder on Ctrl-C); an existing store at `path`
 /// (parts or a run left it) is finished in place, its complete chunks kept ([`write_zarr`]).
+/// Anything else at `path` (a file, a link, a folder that is not a store, even an empty one)
+/// is refused ([`check_store_target`]), never written into.
 pub fn write_zarr_whole(
     path: &Path,
     src: &dyn RowSource,
@@ -535,16 +636,17 @@ pub fn write_zarr_whole(
     tiles: Option<(usize, usize)>,
     progress: impl Fn(usize) + Sync,
 ) -> Result<ZarrReport, TileError> {
-    if std::fs::symlink_metadata(path).is_ok() {
+    let out = |reason: String| TileError::Output {
+        path: path.display().to_string(),
+        reason,
+    };
+    check_store_target(path, false).map_err(out)?;
+    if is_store(path) {
         return write_zarr(path, src, spec, tiles, Part::WHOLE, progress);
     }
     let tmp = crate::engine::io::temp_path(path);
     let _ = std::fs::remove_dir_all(&tmp);
     let guard = crate::engine::io::TempFile::new(path);
-    let out = |reason: String| TileError::Output {
-        path: path.display().to_string(),
-        reason,
-    };
     let result = write_zarr(&tmp, src, spec, tiles, Part::WHOLE, progress).and_then(|rep| {
         if std::fs::symlink_metadata(path).is_ok() {
             return Err(out(format!(
