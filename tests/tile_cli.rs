@@ -73,6 +73,21 @@ fn tiles_from_a_ripple_file_with_volume() {
     let o = cellsurf(&["tile", "--tile", r.to_str().unwrap(), "--snapshots", "7"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("snapshots = 7 is out of range"));
+    // snapshots out of order or twice are refused, from a file and generated alike
+    for list in ["3,2", "2,2"] {
+        for src in [&["--tile", r.to_str().unwrap()][..], &["--generate"][..]] {
+            let mut args = vec!["tile", "--snapshots", list];
+            args.extend(src);
+            let o = cellsurf(&args);
+            assert!(!o.status.success(), "{args:?}");
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert!(
+                e.contains(&format!("--snapshots = {list} is out of range"))
+                    && e.contains("strictly increasing"),
+                "{e}"
+            );
+        }
+    }
 }
 
 #[test]

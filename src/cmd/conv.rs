@@ -1207,6 +1207,21 @@ fn held_by_option(id: &str, text: &str) -> Option<u64> {
     held
 }
 
+/// Checks that the steps of the list option `key` (`snapshots`) are strictly increasing: a list
+/// out of order or with a step twice is refused by name, never sorted.
+pub fn strictly_increasing(key: &str, steps: &[u64]) -> Result<()> {
+    if let Some(w) = steps.windows(2).find(|w| w[1] <= w[0]) {
+        let list: Vec<String> = steps.iter().map(u64::to_string).collect();
+        bail!(
+            "{key} = {} is out of range: expected steps strictly increasing ({} is not after {})",
+            list.join(","),
+            w[1],
+            w[0]
+        );
+    }
+    Ok(())
+}
+
 /// A scenario value written as the command line writes it (`1,2` for an array).
 pub fn cli_text(v: &toml::Value) -> String {
     match v {

@@ -302,14 +302,8 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
                 ),
             }
             secs = scenario_seconds(&mut t, "--scenario", path)?;
-            let p: RippleParams = toml::Value::Table(t).try_into().map_err(|e| {
-                anyhow::anyhow!(
-                    "in --scenario {}: {}",
-                    path.display(),
-                    cellsurf::ripple::params::renamed_key_hint(&e.to_string())
-                )
-            })?;
-            p
+            RippleParams::from_table(t)
+                .map_err(|e| anyhow::anyhow!("in --scenario {}: {e}", path.display()))?
         }
         None => RippleParams::default(),
     };
@@ -1064,18 +1058,7 @@ pub fn run(a: Args) -> Result<()> {
             (EARLIEST_STOP as f64 * c.step_s).ceil()
         ));
     }
-    if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
-        bail!(
-            "snapshots = {} is out of range: expected steps strictly increasing ({} is not after {})",
-            times
-                .iter()
-                .map(u64::to_string)
-                .collect::<Vec<_>>()
-                .join(","),
-            w[1],
-            w[0]
-        );
-    }
+    conv::strictly_increasing("snapshots", &times)?;
     if let Some(&t) = times.iter().find(|&&t| t > cap) {
         bail!(
             "snapshots = {t} is out of range: expected steps in [0, steps = {}]",

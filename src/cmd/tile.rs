@@ -235,8 +235,7 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
             }
             // (its duration_s and wave_period_s converted below, as `cellsurf ripple` does)
             secs = super::ripple::scenario_seconds(&mut t, "--ripple-scenario", path)?;
-            toml::Value::Table(t)
-                .try_into()
+            RippleParams::from_table(t)
                 .with_context(|| format!("in --ripple-scenario {}", path.display()))?
         }
         None => RippleParams::default(),
@@ -709,6 +708,9 @@ pub fn run(a: Args) -> Result<()> {
         && (kx == 0 || ky == 0)
     {
         bail!("--chunk-tiles = {kx}x{ky} is out of range: expected at least 1x1 tiles per chunk");
+    }
+    if let Some(s) = &a.snapshots {
+        conv::strictly_increasing("snapshots", s)?;
     }
     if a.mosaic.is_some() && a.extent.is_some() {
         bail!("--mosaic and --extent both given: expected one of them");

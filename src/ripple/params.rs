@@ -322,6 +322,22 @@ pub fn renamed_key_hint(msg: &str) -> String {
     msg.to_string()
 }
 
+/// What a scenario key takes, said from the TOML reader's message about a value it refused
+/// (`invalid type: floating point `2.5`, expected usize`): the number kinds in words, any
+/// other message (an unknown variant's list of names) as it is.
+fn what_a_key_takes(msg: &str) -> String {
+    let first = msg.lines().next().unwrap_or(msg).trim();
+    let expected = first.rsplit_once("expected ").map_or(first, |(_, e)| e);
+    match expected.trim_end_matches(|c: char| c == '.' || c.is_whitespace()) {
+        "usize" | "u64" | "u32" | "u16" => "expected a whole number >= 0".into(),
+        "f64" | "f32" => "expected a number".into(),
+        "a boolean" => "expected true or false".into(),
+        "a string" => "expected a string".into(),
+        _ if first.contains("expected") => format!("expected {expected}"),
+        _ => first.to_string(),
+    }
+}
+
 /// A positive number to four significant digits (`0.0003124`), for limits computed from
 /// other parameters.
 pub fn rounded(v: f64) -> String {
@@ -414,11 +430,85 @@ impl RippleParams {
                 )));
             }
         }
-        let p: RippleParams = toml::Value::Table(t)
-            .try_into()
-            .map_err(|e: toml::de::Error| RippleError::Toml(renamed_key_hint(&e.to_string())))?;
+        let p = Self::from_table(t)?;
         p.validate()?;
         Ok(p)
+    }
+
+    /// The parameters a scenario's keys give (the others at their defaults; not validated).
+    /// A value is read as the command line reads its option: a whole number may be written
+    /// `2e4` or `20000.0`, and a value that is not one of the key's kind is named by its key,
+    /// with the value and what the key takes (`layers = 2.5 is not a valid value: expected a
+    /// whole number >= 0`), not by the TOML reader's type names. A whole number too large for
+    /// any count (`steps = 1e30`) is refused with the key's own range, the value as written.
+    pub fn from_table(t: toml::Table) -> Result<Self, RippleError> {
+        let fits = |k: &str, v: &toml::Value| {
+            let one = toml::Table::from_iter([(k.to_string(), v.clone())]);
+            toml::Value::Table(one).try_into::<RippleParams>()
+        };
+        let mut read = toml::Table::new();
+        for (k, v) in t {
+            let v = match v {
+                toml::Value::Float(f)
+                    if (f.fract() == 0.0 || f.is_infinite()) && fits(&k, &v).is_err() =>
+                {
+                    // (past the largest count, the largest: the key's range check refuses it,
+                    // and names the value as written)
+                    let whole = toml::Value::Integer(if f.abs() < 9.223_372_036_854_775e18 {
+                        f as i64
+                    } else if f > 0.0 {
+                        i64::MAX
+                    } else {
+                        i64::MIN
+                    });
+                    if fits(&k, &whole).is_ok() {
+                        if f.abs() >= 9.223_372_036_854_775e18 {
+                            let one = fits(&k, &whole).expect("checked");
+                            return Err(match one.validate() {
+                                Err(RippleError::Range {
+                                    parameter,
+                                    expected,
+                                    ..
+                                }) if parameter == k => RippleError::Range {
+                                    parameter,
+                                    value: shown(f),
+                                    expected,
+                                },
+                                _ => RippleError::Toml(format!(
+                                    "{k} = {} is not a valid value: expected a whole number \
+                                     below 2^63",
+                                    shown(f)
+                                )),
+                            });
+                        }
+                        whole
+                    } else {
+                        v
+                    }
+                }
+                v => v,
+            };
+            if let Err(e) = fits(&k, &v) {
+                let e = e.to_string();
+                if e.contains("unknown field") {
+                    return Err(RippleError::Toml(renamed_key_hint(&e)));
+                }
+                // (a key of names given another kind says "string only": its names are what
+                // an unknown name is told)
+                let e = match fits(&k, &toml::Value::String(String::new())) {
+                    Err(names) if e.contains("string only") => names.to_string(),
+                    _ => e,
+                };
+                return Err(RippleError::Toml(format!(
+                    "{k} = {v} is not a valid value: {}",
+                    what_a_key_takes(&e)
+                )));
+            }
+            read.insert(k, v);
+        }
+        toml::Value::Table(read)
+            .try_into()
+            .map_err(|e: toml::de::Error| RippleError::Toml(renamed_key_hint(&e.to_string())))
     }
 
     /// The parameters as a TOML scene.
@@ -894,6 +984,52 @@ mod tests {
         assert_eq!(e.frame_angle(), 0.0);
         assert_eq!(e.lattice_current_angle(), 180.0);
         assert_eq!(e.lattice_flow_angle(), 180.0);
+    }
+
+    /// A scenario's values are read as the command line reads its options: whole numbers
+    /// written as floats are counts, and a value of the wrong kind, or a count past every
+    /// range, is named by its key with the value as written and what the key takes.
+    #[test]
+    fn scenario_values_are_read_as_the_options_read_them() {
+        let read = |text: &str| RippleParams::from_table(text.parse().unwrap());
+        let p = read("layers = 2.0\nsteps = 2e4\nseed = 7.0\nd50 = 1").unwrap();
+        assert_eq!((p.layers, p.steps, p.seed), (2, 20_000, 7));
+        assert_eq!(p.d50, 1.0);
+        for (text, needles) in [
+            ("layers = 2.5", &["layers = 2.5", "a whole number >= 0"][..]),
+            ("layers = -3", &["layers = -3", "a whole number >= 0"]),
+            ("d50 = \"x\"", &["d50 = \"x\"", "expected a number"]),
+            ("frame = 3", &["frame = 3", "`grid` or `flow`"]),
+            (
+                "hop_exponential = 1",
+                &["hop_exponential = 1", "true or false"],
+            ),
+        ] {
+            let e = read(text).unwrap_err().to_string();
+            for n in needles {
+                assert!(e.contains(n), "{text}: {e}");
+            }
+            assert!(!e.contains("usize") && !e.contains("f64"), "{e}");
+        }
+        // past every count: the key's own range, the value as written
+        let past = RippleParams {
+            steps: (1 << 40) + 1,
+            ..RippleParams::default()
+        };
+        let Err(RippleError::Range { expected, .. }) = past.validate() else {
+            panic!("steps past 2^40 is refused");
+        };
+        for v in ["1e30", "inf", "1e19"] {
+            let e = read(&format!("steps = {v}")).unwrap_err();
+            assert_eq!(
+                e,
+                RippleError::Range {
+                    parameter: "steps",
+                    value: v.into(),
+                    expected: expected.clone()
+                }
+            );
+        }
     }
 
     /// The range a refused `layer_thickness` states is the one the check applies: its upper end
