@@ -624,10 +624,7 @@ mod cli {
     fn bad_input_is_an_error_not_a_panic() {
         for (args, needle) in [
             (vec!["--kappa", "-1"], "--kappa = -1"),
-            (
-                vec!["--bins", "0"],
-                "--bins (bins) = 0 is out of range: 1 to 4096",
-            ),
+            (vec!["--bins", "0"], "'0' for '--size"),
             (vec!["--particles", "0"], "--particles = 0"),
             (vec!["--steps", "0"], "--steps = 0"),
             (vec!["--hop", "nan"], "--hop = NaN"),

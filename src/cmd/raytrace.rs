@@ -136,7 +136,7 @@ pub struct Args {
     /// Longest ray path, m [default: 3 x (section span + water depth)].
     #[arg(long)]
     max_path: Option<f64>,
-    /// Most rays in all (initial fan and shadow-edge bisection), --rays to 2^53.
+    /// Most rays in all (initial fan and shadow-edge bisection).
     #[arg(long, default_value_t = 2_000_000, value_parser = conv::parse_usize)]
     max_rays: usize,
     /// Straight-line (line-of-sight) visibility instead of refracted rays: the vertices in view
@@ -370,7 +370,7 @@ fn straight_unused(a: &Args, options: &[(&str, &str)]) {
 /// `--flag = value` for an option, marked `(default)` when the user did not type it.
 fn flag(id: &str, v: f64) -> String {
     let f = conv::typed_flag(id).unwrap_or_default();
-    if conv::typed(id) || conv::set_by_scenario(id, &v.to_string()) {
+    if conv::typed(id) {
         format!("{f} = {v}")
     } else {
         format!("{f} = {v} (default)")
@@ -500,10 +500,6 @@ fn check_profile_options(a: &Args) -> Result<()> {
 /// drift below 1e-9 in ocean profiles at the default step, and near 1e-6 where the gradient
 /// limit of its step binds (steep profiles, where a smaller --ds would not help).
 const SNELL_DRIFT_WARN: f64 = 1e-5;
-
-/// The largest `--max-rays`: 2^53, the largest integer every output (a CSV header, the JSON
-/// summary) records exactly.
-const MAX_RAYS: u64 = 1 << 53;
 
 /// The largest seed: 2^63 - 1, the largest integer a TOML scenario file holds.
 const MAX_SEED: u64 = i64::MAX as u64;
@@ -692,14 +688,6 @@ pub fn run(a: Args) -> Result<()> {
         max_deg: amax,
         rays: a.rays,
     };
-    if a.max_rays as u64 > MAX_RAYS {
-        bail!(
-            "{} = {} is out of range: expected --rays to 2^53 = {MAX_RAYS} rays (what every \
-             output records exactly)",
-            conv::typed_flag("max_rays").unwrap_or_else(|| "--max-rays".into()),
-            a.max_rays
-        );
-    }
     if !a.straight && a.max_rays < a.rays {
         bail!(
             "{} is more than {}: expected --rays at most --max-rays, the most rays in all \

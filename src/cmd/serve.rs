@@ -30,10 +30,7 @@ pub struct Args {
 fn parse_max_sessions(s: &str) -> Result<u64, String> {
     match super::conv::parse_count(s)? {
         v @ 1..=1024 => Ok(v),
-        _ => Err(format!(
-            "{} is out of range: expected 1 to 1024 sessions",
-            s.trim()
-        )),
+        v => Err(format!("{v} is out of range: expected 1 to 1024 sessions")),
     }
 }
 

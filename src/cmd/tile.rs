@@ -78,7 +78,7 @@ pub struct Args {
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
-    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
+    #[arg(long, value_delimiter = ',', value_parser = conv::parse_whole)]
     seeds: Option<Vec<u64>>,
     /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
     #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
@@ -157,10 +157,10 @@ pub struct Args {
     check: Option<PathBuf>,
     /// Seed of the patch choice and, without --dune-seed, of the dune synthesis (and of
     /// --generate without --seeds).
-    #[arg(long, default_value_t = 1, value_parser = conv::parse_count)]
+    #[arg(long, default_value_t = 1, value_parser = conv::parse_whole)]
     seed: u64,
     /// --dunes: seed of the dune synthesis alone [default: --seed].
-    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
+    #[arg(long, value_name = "N", value_parser = conv::parse_whole)]
     dune_seed: Option<u64>,
     /// Print the size and the disk space needed, then stop.
     #[arg(long)]
