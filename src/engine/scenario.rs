@@ -27,6 +27,48 @@ impl ScenarioError {
     }
 }
 
+/// What a scenario key takes, said from the TOML reader's message about a value it refused
+/// (``invalid type: floating point `2.5`, expected usize``): the number kinds in words, any
+/// other message (an unknown name's list of names) as it is.
+pub fn what_a_key_takes(msg: &str) -> String {
+    let first = msg.lines().next().unwrap_or(msg).trim();
+    let expected = first.rsplit_once("expected ").map_or(first, |(_, e)| e);
+    match expected.trim_end_matches(|c: char| c == '.' || c.is_whitespace()) {
+        "usize" | "u64" | "u32" | "u16" | "u8" => "expected a whole number >= 0".into(),
+        "i64" | "i32" => "expected a whole number".into(),
+        "f64" | "f32" => "expected a number".into(),
+        "a boolean" => "expected true or false".into(),
+        "a string" => "expected a string".into(),
+        _ if first.contains("expected") => format!("expected {expected}"),
+        _ => first.to_string(),
+    }
+}
+
+/// `base` with the key `k` set to `v`, read as a `T`; if it does not read, why, in words
+/// ([`what_a_key_takes`]: a key of names given a value of another kind lists its names; an
+/// unknown key is the reader's own message, which lists the keys).
+pub fn key_reads_as<T: DeserializeOwned>(
+    base: &toml::Table,
+    k: &str,
+    v: &toml::Value,
+) -> Result<T, String> {
+    let with = |v: &toml::Value| {
+        let mut t = base.clone();
+        t.insert(k.to_string(), v.clone());
+        toml::Value::Table(t).try_into::<T>()
+    };
+    with(v).map_err(|e| {
+        let e = e.to_string();
+        if e.contains("unknown field") {
+            return e;
+        }
+        match with(&toml::Value::String(String::new())) {
+            Err(names) if e.contains("string only") => what_a_key_takes(&names.to_string()),
+            _ => what_a_key_takes(&e),
+        }
+    })
+}
+
 /// Reads a scenario file of `model` (`model = "MODEL"` required) into `T`, whose fields are the
 /// model's other keys (`T` refuses an unknown key with `#[serde(deny_unknown_fields)]`).
 pub fn read<T: DeserializeOwned>(text: &str, model: &str) -> Result<T, ScenarioError> {

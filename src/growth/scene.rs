@@ -262,23 +262,54 @@ const WHOLE_KEYS: [&str; 8] = [
 ];
 
 /// Turns the whole-valued floats of the [`WHOLE_KEYS`] (`steps = 1e4`, a TOML float) into
-/// integers, as `--steps 1e4` is read; any other float there is refused, naming the key.
-fn whole_numbers(table: &mut toml::Table) -> Result<(), SceneError> {
-    fn whole(key: &str, v: &mut toml::Value) -> Result<(), SceneError> {
+/// integers, as `--steps 1e4` is read; any other float there is refused, naming the key. A
+/// whole number past every count (`steps = 1e30`, `inf`) is refused with the key's own range
+/// from the checks of `defaults` (the scene's), the value as written.
+fn whole_numbers(table: &mut toml::Table, defaults: &SceneConfig) -> Result<(), SceneError> {
+    const PAST: f64 = 9_223_372_036_854_775_808.0; // 2^63: the largest TOML integer is 2^63 - 1
+    let refuse = |key: &str, f: f64| {
+        SceneError::Toml(format!(
+            "`{key}` = {f}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)"
+        ))
+    };
+    let whole = |key: &str, v: &mut toml::Value| -> Result<(), SceneError> {
         if let toml::Value::Float(f) = *v {
-            // (below 2^63: the largest TOML integer is 2^63 - 1)
-            if !((0.0..9_223_372_036_854_775_808.0).contains(&f) && f.fract() == 0.0) {
-                return Err(SceneError::Toml(format!(
-                    "`{key}` = {f}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)"
-                )));
+            if !((0.0..PAST).contains(&f) && f.fract() == 0.0) {
+                return Err(refuse(key, f));
             }
             *v = toml::Value::Integer(f as i64);
         }
         Ok(())
-    }
+    };
     for key in WHOLE_KEYS {
         match table.get_mut(key) {
             Some(toml::Value::Array(a)) => a.iter_mut().try_for_each(|v| whole(key, v))?,
+            Some(toml::Value::Float(f)) if *f >= PAST => {
+                // (the largest count stands in: the key's range check refuses it)
+                let f = *f;
+                let mut t =
+                    toml::Table::try_from(defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+                t.insert(key.into(), toml::Value::Integer(i64::MAX));
+                let check = toml::Value::Table(t)
+                    .try_into::<SceneConfig>()
+                    .map(|c| c.validate());
+                return Err(match check {
+                    Ok(Err(SceneError::Range {
+                        parameter,
+                        expected,
+                        ..
+                    })) if parameter == key
+                        || parameter == "size" && matches!(key, "width" | "height") =>
+                    {
+                        SceneError::Range {
+                            parameter: key,
+                            value: crate::ripple::params::shown(f),
+                            expected,
+                        }
+                    }
+                    _ => refuse(key, f),
+                });
+            }
             Some(v) => whole(key, v)?,
             None => {}
         }
@@ -399,13 +430,21 @@ impl SceneConfig {
             }
         };
         let defaults = SceneConfig::defaults(scene);
-        let mut merged =
-            toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let base = toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
+        let mut merged = base.clone();
         let mut table = table;
-        whole_numbers(&mut table)?;
+        whole_numbers(&mut table, &defaults)?;
         let snapshots_given = table.contains_key("snapshots");
         let steps_given = table.contains_key("steps");
         for (k, v) in table {
+            // (a value of the wrong kind is named by its key, with what the key takes)
+            if let Err(e) = crate::engine::scenario::key_reads_as::<SceneConfig>(&base, &k, &v) {
+                return Err(SceneError::Toml(if e.contains("unknown field") {
+                    e
+                } else {
+                    format!("`{k}` = {v}: {e}")
+                }));
+            }
             merged.insert(k, v);
         }
         let mut cfg: SceneConfig = toml::Value::Table(merged)
@@ -1604,9 +1643,14 @@ mod tests {
             ("steps = 1.5", "`steps` = 1.5: expected a whole number"),
             ("snapshots = [10, 2.5]", "`snapshots` = 2.5"),
             ("events = -1e3", "`events` = -1000"),
+            // past every count: the key's own range, the value as written
             (
                 "series = 1e30",
-                "`series` = 1000000000000000000000000000000",
+                "series = 1e30 is out of range: 1 to 100000",
+            ),
+            (
+                "steps = inf",
+                "steps = inf is out of range: 1 to 9007199254740992",
             ),
         ] {
             let e = SceneConfig::from_toml(&format!("scene = \"grow\"\n{text}\n"))

@@ -322,22 +322,6 @@ pub fn renamed_key_hint(msg: &str) -> String {
     msg.to_string()
 }
 
-/// What a scenario key takes, said from the TOML reader's message about a value it refused
-/// (`invalid type: floating point `2.5`, expected usize`): the number kinds in words, any
-/// other message (an unknown variant's list of names) as it is.
-fn what_a_key_takes(msg: &str) -> String {
-    let first = msg.lines().next().unwrap_or(msg).trim();
-    let expected = first.rsplit_once("expected ").map_or(first, |(_, e)| e);
-    match expected.trim_end_matches(|c: char| c == '.' || c.is_whitespace()) {
-        "usize" | "u64" | "u32" | "u16" => "expected a whole number >= 0".into(),
-        "f64" | "f32" => "expected a number".into(),
-        "a boolean" => "expected true or false".into(),
-        "a string" => "expected a string".into(),
-        _ if first.contains("expected") => format!("expected {expected}"),
-        _ => first.to_string(),
-    }
-}
-
 /// A positive number to four significant digits (`0.0003124`), for limits computed from
 /// other parameters.
 pub fn rounded(v: f64) -> String {
@@ -442,9 +426,9 @@ impl RippleParams {
     /// whole number >= 0`), not by the TOML reader's type names. A whole number too large for
     /// any count (`steps = 1e30`) is refused with the key's own range, the value as written.
     pub fn from_table(t: toml::Table) -> Result<Self, RippleError> {
+        let none = toml::Table::new();
         let fits = |k: &str, v: &toml::Value| {
-            let one = toml::Table::from_iter([(k.to_string(), v.clone())]);
-            toml::Value::Table(one).try_into::<RippleParams>()
+            crate::engine::scenario::key_reads_as::<RippleParams>(&none, k, v)
         };
         let mut read = toml::Table::new();
         for (k, v) in t {
@@ -489,19 +473,11 @@ impl RippleParams {
                 v => v,
             };
             if let Err(e) = fits(&k, &v) {
-                let e = e.to_string();
                 if e.contains("unknown field") {
                     return Err(RippleError::Toml(renamed_key_hint(&e)));
                 }
-                // (a key of names given another kind says "string only": its names are what
-                // an unknown name is told)
-                let e = match fits(&k, &toml::Value::String(String::new())) {
-                    Err(names) if e.contains("string only") => names.to_string(),
-                    _ => e,
-                };
                 return Err(RippleError::Toml(format!(
-                    "{k} = {v} is not a valid value: {}",
-                    what_a_key_takes(&e)
+                    "{k} = {v} is not a valid value: {e}"
                 )));
             }
             read.insert(k, v);
