@@ -48,7 +48,7 @@ pub fn scenarios() -> impl Iterator<Item = &'static (&'static str, &'static str)
 }
 
 /// The other files of `scenarios/`: the tables a scenario file names (by the path written in
-/// it, from the repository root), with their texts.
+/// it, from the scenarios' folder), with their texts.
 pub fn scenario_tables() -> impl Iterator<Item = &'static (&'static str, &'static str)> {
     crate::raytrace::figures::TABLES.iter()
 }

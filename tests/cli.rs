@@ -457,4 +457,11 @@ fn frames_and_series_beyond_the_timesteps_are_one_a_timestep_and_said() {
     let (frames, rows, err) = run("5", "4");
     assert_eq!((frames, rows), (6, 5), "{err}");
     assert!(!err.contains("warning"), "{err}");
+    // the defaults (60 frames, the scene's series) are not warned of
+    let o = common::cellsurf(&[
+        "grow", "--size", "16", "--steps", "10", "--out", g, "--out", c,
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !err.contains("warning"), "{err}");
+    assert_eq!(common::gif_frames(&gif), 11, "{err}");
 }

@@ -288,8 +288,7 @@ pub fn run(a: Args) -> Result<()> {
         (_, _, Some(q)) => SeaLevel::Quantile(q),
         _ => SeaLevel::default(),
     };
-    sea.validate()
-        .context("in --sea-level, --sea-fraction or --sea-quantile")?;
+    sea.validate()?;
     if let Some((w, h)) = size {
         check_size(w, h).context("in --size")?;
     }

@@ -69,11 +69,11 @@ pub fn run(a: FiguresArgs) -> Result<()> {
     std::fs::create_dir_all(&a.out_dir)
         .with_context(|| format!("cannot create --out-dir {dir}"))?;
     // (a folder the run cannot write in is named before any figure is drawn)
-    let probe = a
+    let check = a
         .out_dir
         .join(format!(".cellsurf-write-check-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .and_then(|()| std::fs::remove_file(&probe))
+    std::fs::write(&check, b"")
+        .and_then(|()| std::fs::remove_file(&check))
         .with_context(|| format!("cannot write in --out-dir {dir}"))?;
     let t0 = Instant::now();
     for f in chosen {

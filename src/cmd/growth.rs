@@ -620,9 +620,10 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         None => None,
     };
     // (frames and series points fall on whole timesteps: a run of fewer timesteps than asked
-    // for has one a timestep, and says so)
+    // for has one a timestep, and says so where they were typed)
     let fewer = |what: &str, asked: usize, file: &str, unit: &str| {
-        if !by_events && asked as u64 > cfg.steps {
+        // (a default the user did not ask for is not warned of)
+        if !by_events && asked as u64 > cfg.steps && conv::typed(what) {
             conv::note(format_args!(
                 "warning: {} = {asked} is more than the run's {} timesteps: the {file} has one \
                  {unit} a timestep, {} in all",

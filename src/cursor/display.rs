@@ -43,24 +43,24 @@ impl SeaLevel {
     ///
     /// # Errors
     ///
-    /// [`CursorError::Parameter`] naming `sea level`, `sea level fraction` or `sea level
-    /// quantile`.
+    /// [`CursorError::Parameter`] naming the scenario key that sets it: `sea_level`,
+    /// `sea_fraction` or `sea_quantile`.
     pub fn validate(&self) -> Result<(), CursorError> {
         let (name, v, ok, range) = match *self {
             SeaLevel::Height(v) => (
-                "sea level",
+                "sea_level",
                 v,
                 v >= 0.0,
                 "it must be a height of at least 0 visits",
             ),
             SeaLevel::MeanFraction(v) => (
-                "sea level fraction",
+                "sea_fraction",
                 v,
                 v >= 0.0,
                 "it must be a fraction of the mean height of at least 0",
             ),
             SeaLevel::Quantile(v) => (
-                "sea level quantile",
+                "sea_quantile",
                 v,
                 (0.0..=1.0).contains(&v),
                 "it must be between 0 and 1",

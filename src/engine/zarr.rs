@@ -657,6 +657,30 @@ pub fn toml_to_json(v: &toml::Value) -> Value {
         other => Value::String(other.to_string()),
     }
 }
+/// What is at a store's path before a run writes it: `None` nothing (a new store), `Some(true)`
+/// a store (a folder with a `zarr.json`), `Some(false)` a folder that is not one. Refused, with
+/// the reason: a folder above it that does not exist, a symbolic link, anything but a folder.
+pub fn store_target(path: &Path) -> Result<Option<bool>, String> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(format!("the folder {} does not exist", dir.display()));
+    }
+    match std::fs::symlink_metadata(path) {
+        Err(_) => Ok(None),
+        Ok(m) if m.file_type().is_symlink() => {
+            Err("is a symbolic link; give the folder it points to".into())
+        }
+        Ok(m) if !m.is_dir() => Err(
+            "exists and is not a folder (a Zarr store is a folder); remove it or choose another \
+             name"
+                .into(),
+        ),
+        Ok(_) => Ok(Some(path.join("zarr.json").is_file())),
+    }
+}
 
 /// Writes a whole store at `root` as one output: `fill` writes it into a temporary sibling
 /// folder (`.NAME.tmp-PID`), which replaces `root` only when `fill` succeeded, so a reader

@@ -73,30 +73,16 @@ pub fn write_zarr(
 /// already a Zarr store (which the run's store replaces); a file or another folder there is
 /// refused, never deleted.
 pub fn check_store_target(out: &Path) -> Result<(), RippleError> {
-    let dir = match out.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
     let refuse = |reason: String| RippleError::Output {
         path: out.display().to_string(),
         reason,
     };
-    if !dir.is_dir() {
-        return Err(refuse(format!(
-            "the folder {} does not exist",
-            dir.display()
-        )));
-    }
-    match std::fs::symlink_metadata(out) {
-        Ok(m) if m.is_dir() && out.join("zarr.json").is_file() => Ok(()),
-        Ok(m) if m.is_dir() => Err(refuse(
-            "exists and is not a Zarr store (no zarr.json); remove it or choose another name".into(),
-        )),
-        Ok(_) => Err(refuse(
-            "exists and is not a folder (a Zarr store is a folder); remove it or choose another name"
+    match crate::engine::zarr::store_target(out).map_err(refuse)? {
+        None | Some(true) => Ok(()),
+        Some(false) => Err(refuse(
+            "exists and is not a Zarr store (no zarr.json); remove it or choose another name"
                 .into(),
         )),
-        Err(_) => Ok(()),
     }
 }
 

@@ -575,27 +575,7 @@ fn foreign_entries(path: &Path) -> Result<Vec<String>, String> {
 /// metadata and temporary files). Anything else (a file, a link, a folder with other content)
 /// is refused, never written into; the error says why and what to do.
 pub fn check_store_target(path: &Path, in_place: bool) -> Result<(), String> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return Err(format!("the folder {} does not exist", dir.display()));
-    }
-    let meta = match std::fs::symlink_metadata(path) {
-        Ok(m) => m,
-        Err(_) => return Ok(()),
-    };
-    if meta.file_type().is_symlink() {
-        return Err("is a symbolic link; give the folder it points to".into());
-    }
-    if !meta.is_dir() {
-        return Err(
-            "exists and is not a folder (a Zarr store is a folder); remove it or choose another name"
-                .into(),
-        );
-    }
-    if is_store(path) {
+    if crate::engine::zarr::store_target(path)? != Some(false) {
         return Ok(());
     }
     let other = foreign_entries(path)?;
