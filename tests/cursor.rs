@@ -720,9 +720,15 @@ fn sea_level_rules() {
     assert_eq!(SeaLevel::Quantile(0.3).resolve(&h), 30.0);
     assert_eq!(quantile(&h, 1.0), 90.0);
     assert_eq!(flooded_fraction(&h, 22.5), 0.3);
-    assert!(SeaLevel::Quantile(1.5).validate().is_err());
-    assert!(SeaLevel::Height(-1.0).validate().is_err());
-    assert!(SeaLevel::MeanFraction(f64::NAN).validate().is_err());
+    // each refusal names the scenario key that sets the level (the command line shows its flag)
+    for (sea, key) in [
+        (SeaLevel::Quantile(1.5), "sea_quantile = 1.5"),
+        (SeaLevel::Height(-1.0), "sea_level = -1"),
+        (SeaLevel::MeanFraction(f64::NAN), "sea_fraction = NaN"),
+    ] {
+        let e = sea.validate().unwrap_err().to_string();
+        assert!(e.starts_with(key), "{e}");
+    }
 }
 
 #[test]
