@@ -348,24 +348,7 @@ fn a_measured_figure_in_a_new_folder_is_the_committed_one() {
     let dir = tmp_in("conventions", "measured_new_folder");
     let _ = std::fs::remove_dir_all(&dir);
     let name = "windripples_error_vs_time";
-    let out = cellsurf(&[
-        "figures",
-        "--only",
-        name,
-        "--out-dir",
-        dir.to_str().unwrap(),
-        "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let made = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
-    let committed = std::fs::read(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("figures/{name}.png")),
-    )
-    .unwrap();
+    let (made, committed) = common::figure_and_committed(name, &dir);
     assert!(
         made == committed,
         "{name}.png differs from the committed figure"

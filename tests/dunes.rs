@@ -958,22 +958,9 @@ mod cli {
         assert_eq!(j["start"], serde_json::to_value(s.start).unwrap());
         assert_eq!(j["start"]["pile"]["height"], 6.0);
         let dir = tmp("barchan-figure");
-        let out = cellsurf(&[
-            "figures",
-            "--only",
-            "dunes_barchan",
-            "--out-dir",
-            dir.to_str().unwrap(),
-            "--quiet",
-        ]);
+        let (made, committed) = super::common::figure_and_committed("dunes_barchan", &dir);
         assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        assert!(
-            std::fs::read(dir.join("dunes_barchan.png")).unwrap()
-                == std::fs::read(format!("{root}/figures/dunes_barchan.png")).unwrap(),
+            made == committed,
             "dunes_barchan.png from its scenario differs from the committed figure"
         );
         // and it records the run it made: from the pile

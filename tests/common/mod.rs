@@ -20,6 +20,31 @@ pub fn tmp_in(tag: &str, name: &str) -> PathBuf {
     d.join(name)
 }
 
+/// Makes the figure `name` with `cellsurf figures --only NAME` into `dir` (it must succeed) and
+/// returns the PNG it made and the committed `figures/NAME.png`.
+#[cfg(feature = "cli")]
+pub fn figure_and_committed(name: &str, dir: &std::path::Path) -> (Vec<u8>, Vec<u8>) {
+    let out = cellsurf(&[
+        "figures",
+        "--only",
+        name,
+        "--out-dir",
+        dir.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let made = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
+    let committed = std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("figures/{name}.png")),
+    )
+    .unwrap();
+    (made, committed)
+}
+
 /// Frames in a GIF file.
 #[cfg(feature = "plot")]
 pub fn gif_frames(path: &std::path::Path) -> usize {
