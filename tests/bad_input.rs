@@ -176,3 +176,114 @@ fn every_option_refuses_bad_values_by_name() {
         failures.join("\n")
     );
 }
+
+/// A whole number too large for its option's type or for a scenario file (`1e19`, `1e30`,
+/// `inf`: past 2^63 - 1) is refused with the option's own range, the words its check states for
+/// a value just past it, and not with the integer type's limit (2^63 - 1, 2^32 - 1, 2^64 - 1).
+#[test]
+fn a_count_too_large_to_hold_is_refused_with_the_options_range() {
+    // (subcommand and the options it needs, option, the range's words, a value just past the
+    // range that the option's type holds, refused by the option's check)
+    let cases: [(&[&str], &str, &str, Option<&str>); 17] = [
+        (&["grow"], "--gif-frames", "1 to 2000", Some("2001")),
+        (&["dunes"], "--gif-frames", "1 to 2000", Some("2001")),
+        (&["grow"], "--series", "1 to 100000 points", Some("100001")),
+        (
+            &["converge", "growth"],
+            "--seeds",
+            "3 to 10000",
+            Some("10001"),
+        ),
+        (&["dunes"], "--hop", "1 to 10^6 cells", Some("1000001")),
+        (&["dunes"], "--steps", "0 to 10^9", Some("1000000001")),
+        (&["cursor"], "--steps", "1 to 10^12", Some("1000000000001")),
+        (
+            &["cursor", "--wind-field", "rotating"],
+            "--wind-arms",
+            "0 to 12",
+            Some("13"),
+        ),
+        (
+            &["ripple"],
+            "--layers",
+            "an integer in [1, 4096]",
+            Some("4097"),
+        ),
+        (
+            &["ripple"],
+            "--steps",
+            "an integer in [0, 2^40]",
+            Some("1099511627777"),
+        ),
+        (
+            &["tile", "--generate"],
+            "--seed",
+            "an integer in [0, 2^53",
+            Some("9007199254740993"),
+        ),
+        (
+            &["raytrace", "--max-rays", "1e8"],
+            "--rays",
+            "an integer in [2, 10000000]",
+            Some("10000001"),
+        ),
+        (
+            &["raytrace"],
+            "--max-bounces",
+            "an integer in [0, 100000]",
+            Some("100001"),
+        ),
+        (
+            &["wind-ripples"],
+            "--threads",
+            "0 (all cores) to 4096",
+            Some("4097"),
+        ),
+        (
+            &["wind-ripples"],
+            "--steps",
+            "1 to 1000000000 (1e9)",
+            Some("1000000001"),
+        ),
+        (
+            &["serve"],
+            "--max-sessions",
+            "1 to 1024 sessions",
+            Some("1025"),
+        ),
+        (&["ripple"], "--size", "sides of 3 to 65536 bins", None),
+    ];
+    let type_limits = ["9223372036854775807", "4294967295", "18446744073709551615"];
+    for (sub, opt, range, past) in cases {
+        let values: &[&str] = if opt == "--size" {
+            &["1e30", "0", "0x8", "8xinf"]
+        } else {
+            &["1e19", "1e30", "inf", "18446744073709551616"]
+        };
+        for v in values {
+            let mut args = sub.to_vec();
+            args.extend([opt, v]);
+            let out = common::cellsurf(&args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            let first = err.lines().next().unwrap_or("");
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+            assert!(
+                first.contains(opt)
+                    && first.contains(&format!("'{v}' is out of range: expected {range}"))
+                    && !type_limits.iter().any(|l| first.contains(l)),
+                "{args:?}: {first}"
+            );
+        }
+        if let Some(p) = past {
+            let mut args = sub.to_vec();
+            args.extend([opt, p]);
+            let out = common::cellsurf(&args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            let first = err.lines().next().unwrap_or("");
+            assert!(
+                !out.status.success() && first.contains(opt) && first.contains(range),
+                "{args:?}: the check states another range: {first}"
+            );
+        }
+    }
+}

@@ -461,10 +461,10 @@ fn errors_name_the_options_given() {
         &["--seed", "9007199254740993"],
         &["--seed = 9007199254740993", "2^53"],
     );
-    // any seed: at most 2^63 - 1, what a scenario file holds
+    // any seed: at most 2^63 - 1, what a scenario file holds (past it, the parser states it)
     refused(
         &["--seed", "9223372036854775808"],
-        &["--seed = 9223372036854775808 is out of range", "2^63 - 1"],
+        &["'9223372036854775808' is out of range", "2^63 - 1"],
     );
     refused(
         &[
@@ -473,7 +473,7 @@ fn errors_name_the_options_given() {
             "--seed",
             "18446744073709551615",
         ],
-        &["--seed = 18446744073709551615 is out of range"],
+        &["'18446744073709551615' is out of range", "2^63 - 1"],
     );
 }
 
@@ -1067,11 +1067,17 @@ fn whole_numbers_past_their_type_are_refused_by_name_and_range() {
             assert!(!e.contains("u64"), "{e}");
         }
     }
-    for (model, key, extra) in [
-        ("raytrace", "max_rays", ""),
-        ("raytrace", "rays", ""),
-        ("raytrace", "seed", ""),
-        ("cursor", "steps", "size = 16\n"),
+    // in a scenario file, the key's own range where it has one, else what a file holds
+    for (model, key, extra, range) in [
+        ("raytrace", "max_rays", "", "9223372036854775807"),
+        (
+            "raytrace",
+            "rays",
+            "",
+            "expected an integer in [2, 10000000]",
+        ),
+        ("raytrace", "seed", "", "9223372036854775807"),
+        ("cursor", "steps", "size = 16\n", "expected 1 to 10^12"),
     ] {
         let p = tmp(&format!("huge_{model}_{key}.toml"));
         std::fs::write(&p, format!("model = \"{model}\"\n{extra}{key} = 1e19\n")).unwrap();
@@ -1079,12 +1085,45 @@ fn whole_numbers_past_their_type_are_refused_by_name_and_range() {
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{key}: {e}");
         assert!(
-            e.contains(&format!("{key} = 10000000000000000000"))
-                && e.contains("9223372036854775807"),
+            e.contains(&format!("{key} = 10000000000000000000")) && e.contains(range),
             "{key}: {e}"
         );
         assert_eq!(e.trim_end().lines().count(), 1, "{key}: {e}");
     }
+}
+
+/// A scenario's whole number written as a float is read as the option reads it, up to 2^63 - 1
+/// (`rays = 1e17`, past 2^53), and refused by the option's check with its range; a value the
+/// scenario set is marked as the scenario's, not as a default.
+#[test]
+fn a_scenarios_large_whole_float_is_checked_and_marked_as_the_scenarios() {
+    for (value, want) in [
+        (
+            "1e17",
+            "--rays = 100000000000000000 (from --scenario) is out of range: expected an integer \
+             in [2, 10000000]",
+        ),
+        (
+            "3000000",
+            "--rays = 3000000 (from --scenario) is more than --max-rays = 2000000 (default)",
+        ),
+    ] {
+        let p = tmp(&format!("rays_{value}.toml"));
+        std::fs::write(&p, format!("model = \"raytrace\"\nrays = {value}\n")).unwrap();
+        let o = cellsurf(&["raytrace", "--scenario", p.to_str().unwrap(), "--quiet"]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{value}: {e}");
+        assert!(e.contains(want), "{value}: {e}");
+    }
+    // typed, the same check names the flag alone
+    let o = cellsurf(&["raytrace", "--rays", "1e17", "--quiet"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains(
+            "--rays = 100000000000000000 is out of range: expected an integer in [2, 10000000]"
+        ),
+        "{e}"
+    );
 }
 
 /// `--straight` traces no rays (without `--rays-csv`): the tracer's options given are warned

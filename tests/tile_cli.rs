@@ -464,7 +464,7 @@ fn generate_options_need_generate_and_angles_have_the_ripple_range() {
         ),
         (
             &["--seed", "9223372036854775808"][..],
-            "--seed = 9223372036854775808 is out of range",
+            "'9223372036854775808' is out of range: expected an integer in [0, 2^53 = 9007199254740992]",
         ),
         // (a NetCDF-3 attribute is a double: 2^53 + 1 would be recorded as 2^53)
         (
@@ -494,7 +494,7 @@ fn generate_options_need_generate_and_angles_have_the_ripple_range() {
         ),
         (
             &["--seeds", "1,9223372036854775808"][..],
-            "--seeds = 9223372036854775808 is out of range",
+            "'9223372036854775808' is out of range: expected an integer in [0, 2^53",
         ),
         (
             &["--seeds", "1,9007199254740993"][..],

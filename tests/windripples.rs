@@ -503,12 +503,12 @@ fn invalid_parameters_are_rejected_with_the_parameter_named() {
         WindError::OutOfRange {
             name: "kappa",
             value: "-4.5".into(),
-            range: "finite and >= 0",
+            range: "a finite number >= 0",
         }
     );
     assert_eq!(
         e.to_string(),
-        "kappa = -4.5 is out of range: finite and >= 0"
+        "kappa = -4.5 is out of range: expected a finite number >= 0"
     );
     let e = windripples::run(
         &WindParams {

@@ -1,7 +1,9 @@
 //! The conventions every subcommand shares (written up in `docs/cli.md`).
 //!
-//! - Counts (`--steps`, `--events`, ...) accept scientific notation: [`parse_count`].
-//! - Grids are `--size WxH` (or `N` for a square): [`parse_size`].
+//! - Counts (`--steps`, `--events`, ...) accept scientific notation, and a count too large to
+//!   hold is refused with the option's range: [`count_in`] (a [`CountRange`] the option's check
+//!   shares).
+//! - Grids are `--size WxH` (or `N` for a square): [`size_in`], [`parse_size`].
 //! - `--out FILE` may be repeated; the extension picks the format: [`Outputs`]. A `.npy` output
 //!   `NAME.npy` keeps its parameters in the sidecar `NAME.json`.
 //! - `--json` prints one object: [`envelope`] (`model`, `version`, `parameters`, `elapsed_s`,
@@ -24,6 +26,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 
 use cellsurf::engine::VERSION;
+use cellsurf::engine::count::CountRange;
 
 /// The subcommand as parsed: its definition, its matches and the words the user typed.
 struct Invocation {
@@ -363,13 +366,6 @@ fn spellings(a: &clap::Arg, words: &[String]) -> Vec<String> {
     seen
 }
 
-/// A count: a whole number, in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`),
-/// at most [`MAX_SEED`] = 2^63 - 1, the largest whole number a scenario file holds (a larger
-/// one could be neither recorded nor read back).
-pub fn parse_count(s: &str) -> Result<u64, String> {
-    parse_count_at_most(s, MAX_SEED)
-}
-
 /// The words for a count above `max`, with the reason when `max` is the scenario file's limit.
 fn too_large(s: &str, max: u64) -> String {
     if max >= MAX_SEED {
@@ -382,8 +378,8 @@ fn too_large(s: &str, max: u64) -> String {
     }
 }
 
-/// [`parse_count`] up to the largest `u64`, for an option that checks its own range and says
-/// it (`raytrace --seed`).
+/// A whole number in decimal or scientific notation (`10000000`, `1e7`, `2.5e6`), up to the
+/// largest `u64`; the option parsers below hold it to the option's type and to [`MAX_SEED`].
 pub fn parse_whole(s: &str) -> Result<u64, String> {
     let t = s.trim();
     if let Ok(v) = t.parse::<u64>() {
@@ -404,31 +400,68 @@ pub fn parse_whole(s: &str) -> Result<u64, String> {
 /// [`MAX_SEED`], what a scenario file holds).
 fn parse_count_at_most<T: TryFrom<u64>>(s: &str, max: u64) -> Result<T, String> {
     let max = max.min(MAX_SEED);
+    whole_at_most(s, max)?.ok_or_else(|| too_large(s, max))
+}
+
+/// `s` as a whole number in `T` at most `max`: `None` if it is one past that (`1e19`, `inf`
+/// for a `u32`), an error if it is not a whole number at all.
+fn whole_at_most<T: TryFrom<u64>>(s: &str, max: u64) -> Result<Option<T>, String> {
     let v = match parse_whole(s) {
         Ok(v) => v,
         // (a whole number past u64 is past the range too, which is what to say)
-        Err(_) if s.trim().parse::<f64>().is_ok_and(|x| x > max as f64) => {
-            return Err(too_large(s, max));
-        }
+        Err(_) if s.trim().parse::<f64>().is_ok_and(|x| x > max as f64) => return Ok(None),
         Err(e) => return Err(e),
     };
-    T::try_from(v)
-        .ok()
-        .filter(|_| v <= max)
-        .ok_or_else(|| too_large(s, max))
+    Ok(T::try_from(v).ok().filter(|_| v <= max))
 }
 
-/// [`parse_count`] for a `usize` option.
+/// A whole-number type an option is held in, with its largest value.
+pub trait CountType: TryFrom<u64> + Clone + Send + Sync + 'static {
+    /// The largest value of the type.
+    const MAX: u64;
+}
+
+impl CountType for u32 {
+    const MAX: u64 = u32::MAX as u64;
+}
+impl CountType for u64 {
+    const MAX: u64 = u64::MAX;
+}
+impl CountType for usize {
+    const MAX: u64 = usize::MAX as u64;
+}
+
+/// The parser of a whole-number option held in `T` whose valid values are `r`: a count as
+/// [`parse_whole`] reads it, and one too large for `T` or for a scenario file (`1e19`, `1e30`,
+/// `inf`) is refused with the option's own range, `'1e19' is out of range: expected 1 to
+/// 2000`. A value that `T` holds is left to the option's check, which states the same range
+/// (the check and the parser share `r`).
+pub fn count_in<T: CountType>(
+    r: CountRange,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
+    count_within(r.expected)
+}
+
+/// [`count_in`] for an option whose range ends at another value (`--snapshots`, at most the
+/// run's steps; `--blend`, at most the tiles' smaller side): `words` state that end, which the
+/// option's check gives as a number once the other value is known.
+pub fn count_within<T: CountType>(
+    words: &'static str,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static {
+    move |s| {
+        whole_at_most(s, T::MAX.min(MAX_SEED))?
+            .ok_or_else(|| format!("'{s}' is out of range: expected {words}"))
+    }
+}
+
+/// A count in a `usize` option whose range has no end of its own (`raytrace --max-rays`, at
+/// least `--rays`): [`parse_whole`], at most [`MAX_SEED`] = 2^63 - 1, the largest whole number
+/// a scenario file holds (a larger one could be neither recorded nor read back).
 pub fn parse_usize(s: &str) -> Result<usize, String> {
     parse_count_at_most(s, usize::MAX as u64)
 }
 
-/// [`parse_count`] for a `u32` option.
-pub fn parse_u32(s: &str) -> Result<u32, String> {
-    parse_count_at_most(s, u64::from(u32::MAX))
-}
-
-/// [`parse_count`] for a `u16` option (a port).
+/// [`parse_whole`] for a `u16` option whose range is the type's (a port).
 pub fn parse_u16(s: &str) -> Result<u16, String> {
     parse_count_at_most(s, u64::from(u16::MAX))
 }
@@ -618,25 +651,45 @@ pub fn parse_duration(s: &str) -> Result<f64, String> {
 
 /// A grid size `WxH`, or `N` for `N x N`, in cells (whole numbers of at least 1).
 pub fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("'{s}' is not a size: expected N or WxH in cells, e.g. 128 or 200x230");
+    size_of(s, None)
+}
+
+/// The parser of a `--size` whose sides the model's checks hold to `sides` (words read after
+/// "expected", `sides of 3 to 65536 cells`): as [`parse_size`], and a side of 0 or one too
+/// large to hold (`0x4`, `1e30`) is refused with those words (`'0x4' is out of range: expected
+/// sides of 3 to 65536 cells`); a side that a size holds is left to the model's checks.
+pub fn size_in(
+    sides: &'static str,
+) -> impl Fn(&str) -> Result<Size, String> + Clone + Send + Sync + 'static {
+    move |s| size_of(s, Some(sides)).map(|(w, h)| Size { w, h })
+}
+
+/// [`parse_size`], stating `sides` for a side out of every range.
+fn size_of(s: &str, sides: Option<&str>) -> Result<(usize, usize), String> {
+    let bad = || match sides {
+        Some(r) => format!("'{s}' is not a size: expected N or WxH, e.g. 128 or 200x230, with {r}"),
+        None => format!("'{s}' is not a size: expected N or WxH in cells, e.g. 128 or 200x230"),
+    };
+    let past = || match sides {
+        Some(r) => format!("'{s}' is out of range: expected {r}"),
+        None => format!("'{s}' has a zero side: each side is at least 1 cell"),
+    };
     let (w, h) = match s.split_once(['x', 'X']) {
         Some((w, h)) => (w, h),
         None => (s, s),
     };
-    // (each side a count: `1e3` accepted, as by every count option)
-    let side = |t: &str| -> Result<usize, String> {
-        parse_count(t.trim())
-            .ok()
-            .and_then(|v| usize::try_from(v).ok())
-            .ok_or_else(bad)
+    // (each side a count: `1e3` accepted, as by every count option; `None` past every count)
+    let side = |t: &str| -> Result<Option<usize>, String> {
+        match whole_at_most::<usize>(t.trim(), MAX_SEED) {
+            Ok(None) if sides.is_none() => Err(bad()),
+            Ok(v) => Ok(v),
+            Err(_) => Err(bad()),
+        }
     };
-    let (w, h) = (side(w)?, side(h)?);
-    if w == 0 || h == 0 {
-        return Err(format!(
-            "'{s}' has a zero side: each side is at least 1 cell"
-        ));
+    match (side(w)?, side(h)?) {
+        (Some(w), Some(h)) if w > 0 && h > 0 => Ok((w, h)),
+        _ => Err(past()),
     }
-    Ok((w, h))
 }
 
 /// A grid size in cells, `WxH` (or `N` for a square), as typed and as written in scenario
@@ -1103,9 +1156,10 @@ fn fits<A: DeserializeOwned>(defaults: &toml::Table, k: &str, v: &toml::Value) -
     toml::Value::Table(t).try_into::<A>().is_ok()
 }
 
-/// A whole number written as a float in a scenario (`steps = 2.0`, `1e4`) read as the
-/// integer a whole-number option takes, as the command line reads `--steps 1e4`; any other
-/// value as it is.
+/// A whole number written as a float in a scenario (`steps = 2.0`, `1e4`, `1e17`) read as the
+/// integer a whole-number option takes, as the command line reads `--steps 1e4` (and as the
+/// ripple and growth scenarios read it), up to 2^63 - 1, the largest integer a scenario file
+/// holds; any other value as it is.
 fn whole_where_needed<A: DeserializeOwned>(
     defaults: &toml::Table,
     k: &str,
@@ -1114,7 +1168,7 @@ fn whole_where_needed<A: DeserializeOwned>(
     if let toml::Value::Float(f) = v
         && f.is_finite()
         && f.fract() == 0.0
-        && f.abs() <= 9_007_199_254_740_992.0
+        && f.abs() < 9_223_372_036_854_775_808.0
         && !fits::<A>(defaults, k, &v)
     {
         let whole = toml::Value::Integer(f as i64);
@@ -1254,24 +1308,79 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parse_count_accepts_scientific_notation() {
-        assert_eq!(parse_count("1e7"), Ok(10_000_000));
-        assert_eq!(parse_count("2.5e6"), Ok(2_500_000));
-        assert_eq!(parse_count("42"), Ok(42));
-        assert!(parse_count("-1").is_err());
-        assert!(parse_count("1.5").is_err());
-        assert!(parse_count("1e30").is_err());
+    fn counts_accept_scientific_notation() {
+        assert_eq!(parse_usize("1e7"), Ok(10_000_000));
+        assert_eq!(parse_usize("2.5e6"), Ok(2_500_000));
+        assert_eq!(parse_usize("42"), Ok(42));
+        assert!(parse_usize("-1").is_err());
+        assert!(parse_usize("1.5").is_err());
+        assert!(parse_usize("1e30").is_err());
         // past what a scenario file holds: refused with that limit
         for s in ["9223372036854775808", "1e19", "1e30"] {
-            let e = parse_count(s).unwrap_err();
+            let e = parse_usize(s).unwrap_err();
             assert!(
-                e.contains(s) && e.contains("at most 9223372036854775807"),
+                e.contains(s) && e.contains("at most 9223372036854775807 (2^63 - 1"),
                 "{e}"
             );
-            assert!(parse_usize(s).unwrap_err().contains("2^63 - 1"), "{s}");
         }
-        assert_eq!(parse_count("9223372036854775807"), Ok(MAX_SEED));
+        assert_eq!(parse_usize("9223372036854775807"), Ok(MAX_SEED as usize));
         assert_eq!(parse_whole("1e19"), Ok(10_000_000_000_000_000_000));
+        assert_eq!(parse_u16("65535"), Ok(u16::MAX));
+        assert!(parse_u16("65536").unwrap_err().contains("at most 65535"));
+    }
+
+    #[test]
+    fn a_count_too_large_to_hold_is_refused_with_the_options_range() {
+        const R: CountRange = CountRange::new(1, 2000, "1 to 2000");
+        let frames = count_in::<usize>(R);
+        let small = count_in::<u32>(CountRange::new(0, 12, "0 to 12"));
+        // past the type, or past what a scenario file holds: the option's range
+        for s in [
+            "1e19",
+            "1e30",
+            "inf",
+            "18446744073709551616",
+            "9223372036854775808",
+        ] {
+            assert_eq!(
+                frames(s),
+                Err(format!("'{s}' is out of range: expected 1 to 2000")),
+                "{s}"
+            );
+        }
+        assert_eq!(
+            small("4294967296"),
+            Err("'4294967296' is out of range: expected 0 to 12".to_string())
+        );
+        // a value the type holds is left to the option's check, which states the same range
+        assert_eq!(frames("2001"), Ok(2001));
+        assert_eq!(frames("0"), Ok(0));
+        assert_eq!(small("4294967295"), Ok(u32::MAX));
+        assert_eq!(frames("1e3"), Ok(1000));
+        // not a whole number: said as such, not as out of range
+        for s in ["-1", "1.5", "nan", "", "two"] {
+            let e = frames(s).unwrap_err();
+            assert!(e.contains("not a whole non-negative number"), "{s}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_size_side_of_zero_or_too_large_to_hold_is_refused_with_the_models_sides() {
+        let sides = "sides of 3 to 65536 bins";
+        let size = size_in(sides);
+        for s in ["0", "0x4", "4x0", "1e30", "4xinf", "18446744073709551616x4"] {
+            assert_eq!(
+                size(s),
+                Err(format!("'{s}' is out of range: expected {sides}")),
+                "{s}"
+            );
+        }
+        // sides the model's check refuses are left to it
+        assert_eq!(size("2x1e5"), Ok(Size { w: 2, h: 100_000 }));
+        let e = size("nan").unwrap_err();
+        assert!(e.contains("not a size") && e.ends_with(sides), "{e}");
+        // without a model's sides, a zero side is said as such
+        assert!(parse_size("0x4").unwrap_err().contains("zero side"));
     }
 
     #[test]

@@ -77,7 +77,7 @@ pub struct Args {
     scenario: Option<PathBuf>,
     /// Steps of the walk (particles; 1 to 10^12, `1e7` accepted). The article's runs use
     /// 11,520,000.
-    #[arg(long, value_name = "N", value_parser = conv::parse_count, default_value_t = ARTICLE_STEPS)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(cellsurf::cursor::STEPS), default_value_t = ARTICLE_STEPS)]
     steps: u64,
     /// Force constant k, 0 to 1 (k = 0: Brownian whatever the wind).
     #[arg(long, default_value_t = DEFAULT_K, allow_negative_numbers = true)]
@@ -132,11 +132,11 @@ pub struct Args {
     #[arg(long, value_name = "CELLS", allow_negative_numbers = true)]
     wind_radius: Option<f64>,
     /// Rotating: arms of each star, 0 to 12 (0: round mounds) [default: 4].
-    #[arg(long, value_name = "N", value_parser = conv::parse_u32)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u32>(cellsurf::cursor::wind::ARMS))]
     wind_arms: Option<u32>,
     /// Grid size in cells, W or WxH, each side 3 or more [default: 240x240 (the article
     /// does not give its grid), or the wind image's size].
-    #[arg(long, value_name = "W[xH]")]
+    #[arg(long, value_name = "W[xH]", value_parser = conv::size_in(cellsurf::cursor::SIZE_SIDES))]
     size: Option<Size>,
     /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
     #[arg(long, default_value_t = 1, value_parser = conv::parse_seed)]
@@ -179,8 +179,6 @@ pub struct Args {
     print_scenario: bool,
 }
 
-/// Largest number of steps.
-const MAX_STEPS: u64 = 1_000_000_000_000;
 /// Steps between progress updates.
 const CHUNK: u64 = 1 << 20;
 
@@ -270,10 +268,11 @@ pub fn run(a: Args) -> Result<()> {
         cellsurf::engine::io::check_output("--save-wind", p)?;
     }
     let size = a.size.map(|s| (s.w, s.h));
-    if a.steps == 0 || a.steps > MAX_STEPS {
+    if !cellsurf::cursor::STEPS.contains(a.steps) {
         bail!(
-            "steps = {} is out of range: it must be between 1 and {MAX_STEPS}",
-            a.steps
+            "steps = {} is out of range: expected {}",
+            a.steps,
+            cellsurf::cursor::STEPS.expected
         );
     }
     if !(a.k.is_finite() && (0.0..=1.0).contains(&a.k)) {

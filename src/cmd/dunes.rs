@@ -12,6 +12,8 @@ use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
 use super::conv::{self, Format, Outputs, Size};
+use cellsurf::dunes;
+use cellsurf::plot::GIF_FRAMES;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use cellsurf::dunes::{
@@ -69,7 +71,8 @@ pub struct Args {
         alias = "grid",
         alias = "grid-size",
         alias = "grid_size",
-        default_value = "100"
+        default_value = "100",
+        value_parser = conv::size_in(dunes::SIZE_SIDES)
     )]
     size: Size,
     /// Iterations: each makes the picks, then applies the rolling rule (0 to 10^9; `1e6`
@@ -81,7 +84,7 @@ pub struct Args {
         alias = "iterations",
         alias = "num-iter",
         alias = "num_iter",
-        value_parser = conv::parse_count,
+        value_parser = conv::count_in::<u64>(dunes::ITERATIONS),
         default_value = "500"
     )]
     steps: u64,
@@ -139,7 +142,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Variant::Article)]
     variant: Variant,
     /// Werner: hop length L of a slab, in cells (1 to 10^6).
-    #[arg(long, default_value_t = 5, value_parser = conv::parse_u32)]
+    #[arg(long, default_value_t = 5, value_parser = conv::count_in::<u32>(dunes::HOP))]
     hop: u32,
     /// Dune-body threshold in cell widths: cells higher than this form dune bodies, the
     /// others are bare ground (finite, at least 0).
@@ -154,7 +157,7 @@ pub struct Args {
     gif: Option<PathBuf>,
     /// Frames in the GIF after the initial state (1 to 2000), evenly spaced over the
     /// iterations, the last at the end (fewer when the run has fewer iterations).
-    #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 60, value_parser = conv::count_in::<usize>(GIF_FRAMES))]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
@@ -196,8 +199,12 @@ fn config(a: &Args) -> Result<(DuneConfig, Start)> {
         },
     };
     cfg.validate()?;
-    if !(1..=1_000_000).contains(&a.hop) {
-        bail!("hop = {} is out of range: expected 1 to 10^6 cells", a.hop);
+    if !dunes::HOP.contains(u64::from(a.hop)) {
+        bail!(
+            "hop = {} is out of range: expected {}",
+            a.hop,
+            dunes::HOP.expected
+        );
     }
     // An option the chosen model does not use is refused, not ignored; a scenario file's
     // value of it (away from its default: --print-scenario writes every key) is warned of.
@@ -270,10 +277,11 @@ fn config(a: &Args) -> Result<(DuneConfig, Start)> {
             a.threshold
         );
     }
-    if a.gif_frames == 0 || a.gif_frames > 2000 {
+    if !GIF_FRAMES.contains(a.gif_frames as u64) {
         bail!(
-            "gif_frames = {} is out of range: expected 1 to 2000",
-            a.gif_frames
+            "gif_frames = {} is out of range: expected {}",
+            a.gif_frames,
+            GIF_FRAMES.expected
         );
     }
     Ok((cfg, start))

@@ -18,9 +18,13 @@ use cellsurf::growth::sampler::SamplerKind;
 use cellsurf::growth::scene::{
     self, RunHooks, RunResult, SceneConfig, SceneKind, Shape, WeightKind,
 };
-use cellsurf::plot::{CellField, GifWriter, Palette};
+use cellsurf::plot::{CellField, GIF_FRAMES, GifWriter, Palette};
 
 use super::conv::{self, Format, Outputs};
+use cellsurf::engine::count::CountRange;
+
+/// `converge growth --seeds`: independent seeds per curve.
+const SEEDS_RANGE: CountRange = CountRange::new(3, 10_000, "3 to 10000");
 
 #[derive(Args, Clone)]
 pub struct GrowArgs {
@@ -31,8 +35,8 @@ pub struct GrowArgs {
     #[arg(long)]
     lattice: Option<Neighbourhood>,
     /// Lattice size in cells: W or WxH (rows must be even on a hex torus).
-    #[arg(long, value_name = "W[xH]", value_parser = conv::parse_size)]
-    size: Option<(usize, usize)>,
+    #[arg(long, value_name = "W[xH]", value_parser = conv::size_in(scene::SIZE_SIDES))]
+    size: Option<conv::Size>,
     /// Boundary: torus, walls, channel (periodic x, walls y) or tube (walls x, periodic y).
     #[arg(long)]
     boundary: Option<Boundary>,
@@ -52,31 +56,31 @@ pub struct GrowArgs {
     /// Monte Carlo timesteps (picks of a surface site, accepted or not; CA updates for ca);
     /// whole numbers, `1e7` accepted. With --events or --until-occupied and no --steps the
     /// exact sampler's clock has no limit; the rejection sampler needs --steps with them.
-    #[arg(long, value_name = "N", value_parser = conv::parse_count, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(scene::STEPS), allow_negative_numbers = true)]
     steps: Option<u64>,
     /// Stop after N accepted events (cells added), `1e5` accepted: reaches stiff cases
     /// (large n) whose clock runs past 2^53.
-    #[arg(long, value_name = "N", value_parser = conv::parse_count, allow_negative_numbers = true)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(scene::EVENTS), allow_negative_numbers = true)]
     events: Option<u64>,
     /// Stop when this fraction of the lattice is occupied, in (0, 1].
     #[arg(long, value_name = "F", allow_negative_numbers = true)]
     until_occupied: Option<f64>,
     /// Timesteps of the snapshots drawn by --out, comma-separated and increasing; whole
     /// numbers, `1e4` accepted.
-    #[arg(long, value_name = "T1,T2,...", value_delimiter = ',', value_parser = conv::parse_count, allow_negative_numbers = true)]
+    #[arg(long, value_name = "T1,T2,...", value_delimiter = ',', value_parser = conv::count_within::<u64>(scene::SNAPSHOTS), allow_negative_numbers = true)]
     snapshots: Option<Vec<u64>>,
     /// Sampler: exact (rejection-free, same process and clock), rejection (the paper's) or ca.
     #[arg(long)]
     sampler: Option<SamplerKind>,
     /// CA: minimum occupied neighbours for growth, cycled over timesteps (1 = Fig. 3; 1,2 = Fig. 4).
-    #[arg(long, value_delimiter = ',', value_parser = conv::parse_usize)]
+    #[arg(long, value_delimiter = ',', value_parser = conv::count_within::<usize>(scene::CA_RULE))]
     ca_rule: Option<Vec<usize>>,
     /// Seed of the random stream, 0 to 2^63 - 1 (the same seed gives the same output).
     #[arg(long, value_parser = conv::parse_seed)]
     seed: Option<u64>,
     /// Number of evenly spaced times at which observables are recorded (for a .csv output); at
     /// most one a timestep.
-    #[arg(long, value_parser = conv::parse_usize)]
+    #[arg(long, value_parser = conv::count_in::<usize>(scene::SERIES))]
     series: Option<usize>,
     /// Output file, repeatable; the extension picks the format: .png (the snapshots), .gif
     /// (an animation), .csv (the observable time series, parameters in '#' header lines).
@@ -90,7 +94,7 @@ pub struct GrowArgs {
     gif: Option<PathBuf>,
     /// Frames in the GIF after the initial state (which the GIF also shows), 1 to 2000; at most
     /// one a timestep.
-    #[arg(long, default_value_t = 60, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 60, value_parser = conv::count_in::<usize>(GIF_FRAMES))]
     gif_frames: usize,
     /// Print one JSON object with the run's summary on stdout (no progress bar).
     #[arg(long)]
@@ -130,7 +134,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value = "figures")]
     out_dir: PathBuf,
     /// growth only: independent seeds per curve, 3 to 10000.
-    #[arg(long, default_value_t = figures::CONVERGE_SEEDS, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = figures::CONVERGE_SEEDS, value_parser = conv::count_in::<usize>(SEEDS_RANGE))]
     seeds: usize,
     /// growth only: print the curves as JSON.
     #[arg(long)]
@@ -346,7 +350,7 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if let Some(v) = a.lattice {
         c.lattice = v;
     }
-    if let Some((w, h)) = a.size {
+    if let Some(conv::Size { w, h }) = a.size {
         c.width = w;
         c.height = h;
     }
@@ -408,8 +412,12 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     if let Some(v) = a.series {
         c.series = v;
     }
-    if a.gif_frames == 0 || a.gif_frames > 2000 {
-        bail!("--gif-frames = {} is out of range: 1 to 2000", a.gif_frames);
+    if !GIF_FRAMES.contains(a.gif_frames as u64) {
+        bail!(
+            "--gif-frames = {} is out of range: {}",
+            a.gif_frames,
+            GIF_FRAMES.expected
+        );
     }
     // (n = -0 is n = 0: recorded as 0 in every output, not as -0)
     c.n += 0.0;
@@ -856,8 +864,12 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
         ));
         return Ok(());
     }
-    if a.seeds < 3 || a.seeds > 10_000 {
-        bail!("--seeds = {} is out of range: 3 to 10000", a.seeds);
+    if !SEEDS_RANGE.contains(a.seeds as u64) {
+        bail!(
+            "--seeds = {} is out of range: {}",
+            a.seeds,
+            SEEDS_RANGE.expected
+        );
     }
     let t0 = Instant::now();
     std::fs::create_dir_all(&a.out_dir)

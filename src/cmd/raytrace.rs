@@ -19,6 +19,8 @@ use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
 use super::conv::{self, Format, Outputs};
+use cellsurf::engine::count::CountRange;
+use cellsurf::raytrace::{ray, shadow};
 
 use cellsurf::raytrace::export::{bty_text, floor_csv, insonification_csv, rays_csv};
 use cellsurf::raytrace::input::{ZarrSurface, read_ripple_store};
@@ -79,7 +81,7 @@ pub struct Args {
     #[arg(long)]
     centre_angle: Option<f64>,
     /// Rays of the initial fan (more are added at shadow edges).
-    #[arg(long, default_value_t = 200, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 200, value_parser = conv::count_in::<usize>(shadow::RAYS))]
     rays: usize,
     /// Sound-speed profile.
     #[arg(long, value_enum, default_value_t = ProfileKind::Isovelocity)]
@@ -125,13 +127,13 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0)]
     azimuth: f64,
     /// Seed of the generated ripple field.
-    #[arg(long, default_value_t = 1, value_parser = conv::parse_whole)]
+    #[arg(long, default_value_t = 1, value_parser = conv::count_in::<u64>(SEED))]
     seed: u64,
     /// Ray step (arc length), m.
     #[arg(long, default_value_t = 0.25)]
     ds: f64,
     /// Most reflections a ray (surface and floor).
-    #[arg(long, default_value_t = 10, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 10, value_parser = conv::count_in::<usize>(ray::MAX_BOUNCES))]
     max_bounces: usize,
     /// Longest ray path, m [default: 3 x (section span + water depth)].
     #[arg(long)]
@@ -367,11 +369,14 @@ fn straight_unused(a: &Args, options: &[(&str, &str)]) {
     }
 }
 
-/// `--flag = value` for an option, marked `(default)` when the user did not type it.
+/// `--flag = value` for an option, marked `(from --scenario)` when a scenario file set it
+/// and `(default)` when it holds its default, untyped.
 fn flag(id: &str, v: f64) -> String {
     let f = conv::typed_flag(id).unwrap_or_default();
     if conv::typed(id) {
         format!("{f} = {v}")
+    } else if conv::set_by_scenario(id, &v.to_string()) {
+        format!("{f} = {v} (from --scenario)")
     } else {
         format!("{f} = {v} (default)")
     }
@@ -501,18 +506,16 @@ fn check_profile_options(a: &Args) -> Result<()> {
 /// limit of its step binds (steep profiles, where a smaller --ds would not help).
 const SNELL_DRIFT_WARN: f64 = 1e-5;
 
-/// The largest seed: 2^63 - 1, the largest integer a TOML scenario file holds.
-const MAX_SEED: u64 = i64::MAX as u64;
+/// `--seed`: 0 to 2^63 - 1, the largest integer a TOML scenario file holds.
+const SEED: CountRange = CountRange::new(
+    0,
+    conv::MAX_SEED,
+    "an integer in [0, 2^63 - 1 = 9223372036854775807] (the largest a scenario file holds)",
+);
 
-/// `--seed` within `0 ..= MAX_SEED`, and within the ripple model's range when it seeds the
-/// generated floor (checked by the ripple model).
+/// `--seed` within the ripple model's range when it seeds the generated floor (checked by
+/// the ripple model); [`SEED`], what a scenario file holds, is its parser's.
 fn check_seed(a: &Args) -> Result<()> {
-    if a.seed > MAX_SEED {
-        bail!(
-            "--seed = {} is out of range: expected an integer in [0, 2^63 - 1 = {MAX_SEED}] (the largest a scenario file holds)",
-            a.seed
-        );
-    }
     if a.seafloor.is_none() && a.seafloor_csv.is_none() {
         cellsurf::ripple::RippleParams {
             seed: a.seed,
@@ -599,10 +602,7 @@ pub fn run(a: Args) -> Result<()> {
         ("max rays", "max_rays"),
     ]);
     conv::set_quiet(a.quiet);
-    // before the scenario merge, which cannot hold a larger seed
-    if a.seed > MAX_SEED {
-        check_seed(&a)?;
-    }
+    // (the seed's parser holds it to what the scenario merge can hold: SEED)
     let scenario = a.scenario.clone();
     let mut a = conv::merge_scenario(a, scenario.as_deref(), "raytrace")?;
     // limits typed on the command line replace a scenario's opening and centre, as a typed
@@ -688,6 +688,13 @@ pub fn run(a: Args) -> Result<()> {
         max_deg: amax,
         rays: a.rays,
     };
+    if !a.straight && !shadow::RAYS.contains(a.rays as u64) {
+        bail!(
+            "{} is out of range: expected {}",
+            flag("rays", a.rays as f64),
+            shadow::RAYS.expected
+        );
+    }
     if !a.straight && a.max_rays < a.rays {
         bail!(
             "{} is more than {}: expected --rays at most --max-rays, the most rays in all \

@@ -16,6 +16,7 @@ use cellsurf::ripple::output::{run_recording, write_netcdf_with, write_npy_with}
 use super::conv::{self, Format as ConvFormat, Outputs, Size};
 use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
+use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
@@ -49,16 +50,16 @@ pub struct Args {
     abstraction: Option<Abstraction>,
     /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: 128x64; NXx1 in
     /// 2d].
-    #[arg(long, value_name = "NXxNY")]
+    #[arg(long, value_name = "NXxNY", value_parser = conv::size_in(params::SIZE_SIDES))]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
+    #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NX), conflicts_with = "size")]
     nx: Option<usize>,
     /// Old spelling of the y part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
+    #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
-    #[arg(long, value_parser = conv::parse_usize)]
+    #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
     /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005].
     #[arg(long)]
@@ -68,7 +69,7 @@ pub struct Args {
     #[arg(long)]
     layer_thickness: Option<f64>,
     /// Steps (`1e4` accepted), 0 to 2^40 [default: 10000].
-    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(params::STEPS))]
     steps: Option<u64>,
     /// Simulated duration instead of --steps: seconds, or with a unit (`90s`, `30min`, `2h`,
     /// `1d`). The steps follow from the duration of a step, set by the Meyer-Peter & Mueller
@@ -171,7 +172,7 @@ pub struct Args {
     #[arg(long, value_parser = parse_seed, allow_hyphen_values = true)]
     seed: Option<u64>,
     /// Steps at which to keep the elevation, comma-separated [default: 0 and the last step].
-    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
+    #[arg(long, value_delimiter = ',', value_parser = conv::count_within::<u64>(SNAPSHOTS))]
     snapshots: Option<Vec<u64>>,
     /// Fields to write (comma-separated): elevation, grain_size, porosity, density,
     /// sound_speed, impedance [default: all; without porosity for apl-uw]. `cellsurf tile` and
@@ -714,16 +715,21 @@ fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
     }
 }
 
-/// `--seed`: an integer in [0, 2^53] (every output records it exactly as a number).
+/// `--snapshots`: steps of the run, each at most its last step (at most 2^40).
+const SNAPSHOTS: &str = "steps in [0, steps], at most 2^40";
+
+/// `--seed`: a whole number (`1e3` accepted) in [`params::SEED`], [0, 2^53] (every output
+/// records it exactly as a number); a seed past it, or below 0, is refused with that range.
 fn parse_seed(s: &str) -> Result<u64, String> {
-    const EXPECTED: &str = "expected an integer in [0, 2^53 = 9007199254740992]";
-    match s.trim().parse::<u64>() {
-        Ok(v) if v <= 1 << 53 => Ok(v),
-        _ => Err(format!("{s} is out of range: {EXPECTED}")),
+    let past = || format!("'{s}' is out of range: expected {}", params::SEED.expected);
+    match conv::count_in::<u64>(params::SEED)(s) {
+        Ok(v) if params::SEED.contains(v) => Ok(v),
+        Ok(_) => Err(past()),
+        Err(_) if s.trim().parse::<f64>().is_ok_and(|v| v < 0.0) => Err(past()),
+        Err(e) => Err(e),
     }
 }
 
-/// Runs the subcommand.
 /// Bytes a ripple run of `p` allocates, holding `snapshots` elevation snapshots and, where
 /// `volume_out`, writing a volume field: 2 per automaton slot (the volume's `u16` automata,
 /// `nx x ny x capacity` of them), 140 per column (the per-column arrays of the run), 8 per
@@ -760,6 +766,7 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
     )
 }
 
+/// Runs the subcommand.
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);

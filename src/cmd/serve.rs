@@ -6,6 +6,7 @@ use std::net::SocketAddr;
 use anyhow::{Context, Result};
 use clap::Parser;
 
+use cellsurf::engine::count::CountRange;
 use cellsurf::serve::{ServerConfig, serve};
 
 /// Options of `cellsurf serve`.
@@ -26,11 +27,17 @@ pub struct Args {
     max_sessions: u64,
 }
 
-/// `--max-sessions`: a whole number (`1e2` accepted), 1 to 1024.
+/// `--max-sessions`: pages held at once.
+const MAX_SESSIONS: CountRange = CountRange::new(1, 1024, "1 to 1024 sessions");
+
+/// `--max-sessions`: a whole number (`1e2` accepted) in [`MAX_SESSIONS`].
 fn parse_max_sessions(s: &str) -> Result<u64, String> {
-    match super::conv::parse_count(s)? {
-        v @ 1..=1024 => Ok(v),
-        v => Err(format!("{v} is out of range: expected 1 to 1024 sessions")),
+    match super::conv::count_in::<u64>(MAX_SESSIONS)(s)? {
+        v if MAX_SESSIONS.contains(v) => Ok(v),
+        v => Err(format!(
+            "{v} is out of range: expected {}",
+            MAX_SESSIONS.expected
+        )),
     }
 }
 

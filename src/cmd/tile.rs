@@ -18,6 +18,8 @@ use cellsurf::ripple::RippleParams;
 use cellsurf::ripple::output::{Field, toml_pairs};
 
 use super::conv::{self, Format, Outputs, Size};
+use cellsurf::engine::count::CountRange;
+use cellsurf::ripple::params;
 use cellsurf::tile::fractal::measured_slope;
 use cellsurf::tile::stream::{estimate_bytes, npy_files, write_stream};
 use cellsurf::tile::tileset::{tiles_from_file, tiles_from_run};
@@ -55,20 +57,20 @@ pub struct Args {
     #[arg(long, value_name = "FILE.toml")]
     ripple_scenario: Option<PathBuf>,
     /// --generate: tile size in columns, NXxNY [default: the ripple scenario's, else 128x64].
-    #[arg(long, value_name = "NXxNY")]
+    #[arg(long, value_name = "NXxNY", value_parser = conv::size_in(params::SIZE_SIDES))]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
+    #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NX), conflicts_with = "size")]
     nx: Option<usize>,
     /// Old spelling of the y part of --size (kept for one release).
-    #[arg(long, hide = true, value_parser = conv::parse_usize, conflicts_with = "size")]
+    #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
     /// --generate: mean sand thickness, automata per column [default: the scenario's, else 30].
-    #[arg(long, value_parser = conv::parse_usize)]
+    #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
     /// --generate: steps of each run, raised to the largest --snapshots step (`1e4` accepted)
     /// [default: the scenario's, else 10000].
-    #[arg(long, value_name = "N", value_parser = conv::parse_count)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(params::STEPS))]
     steps: Option<u64>,
     /// --generate: fraction of automata triggered per step [default: the scenario's, else
     /// 0.001].
@@ -78,10 +80,10 @@ pub struct Args {
     #[arg(long)]
     bin_size: Option<f64>,
     /// --generate: seeds of the runs (comma-separated) [default: --seed].
-    #[arg(long, value_delimiter = ',', value_parser = conv::parse_whole)]
+    #[arg(long, value_delimiter = ',', value_parser = conv::count_in::<u64>(SEEDS))]
     seeds: Option<Vec<u64>>,
     /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
-    #[arg(long, value_delimiter = ',', value_parser = conv::parse_count)]
+    #[arg(long, value_delimiter = ',', value_parser = conv::count_in::<u64>(params::STEPS))]
     snapshots: Option<Vec<u64>>,
     /// Tiles along x and y, MXxMY; instead of --extent [default: 3x3].
     #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
@@ -93,7 +95,7 @@ pub struct Args {
     #[arg(long, default_value = "same")]
     choose: String,
     /// Cross-fade band at the tile edges, bins (0 = none).
-    #[arg(long, default_value_t = 0, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 0, value_parser = conv::count_within::<usize>(BLEND))]
     blend: usize,
     /// Volume field to write beneath the surface (grain_size, porosity, density, sound_speed,
     /// impedance).
@@ -129,7 +131,7 @@ pub struct Args {
     /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side and at
     /// most 16384 (a
     /// shorter side gets at most its own bins) [default: 256, or the bins of a smaller surface].
-    #[arg(long, value_parser = conv::parse_usize)]
+    #[arg(long, value_parser = conv::count_within::<usize>(DUNE_GRID))]
     dune_grid: Option<usize>,
     /// Output file; the extension picks the format: .nc (NetCDF-3), .npy (NAME.npy the
     /// elevation, NAME_FIELD.npy the volume, NAME.json the parameters) or .zarr (a Zarr v3
@@ -157,10 +159,10 @@ pub struct Args {
     check: Option<PathBuf>,
     /// Seed of the patch choice and, without --dune-seed, of the dune synthesis (and of
     /// --generate without --seeds).
-    #[arg(long, default_value_t = 1, value_parser = conv::parse_whole)]
+    #[arg(long, default_value_t = 1, value_parser = conv::count_in::<u64>(SEEDS))]
     seed: u64,
     /// --dunes: seed of the dune synthesis alone [default: --seed].
-    #[arg(long, value_name = "N", value_parser = conv::parse_whole)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(SEEDS))]
     dune_seed: Option<u64>,
     /// Print the size and the disk space needed, then stop.
     #[arg(long)]
@@ -561,20 +563,26 @@ fn seam_json(s: &SeamStats) -> serde_json::Value {
     serde_json::json!({ "x": d(&s.x), "y": d(&s.y) })
 }
 
-/// The largest seed: 2^53, the largest integer every output records exactly (a NetCDF-3
-/// attribute is a double; the ripple runs of `--generate` take the same range).
-pub const MAX_SEED: u64 = 1 << 53;
+/// `--seed`, `--seeds` and `--dune-seed`: the ripple model's seeds, 0 to 2^53, the largest
+/// integer every output records exactly (a NetCDF-3 attribute is a double; the ripple runs of
+/// `--generate` take the same range).
+const SEEDS: CountRange = params::SEED;
 
-/// `--seed` and `--seeds` within `0 ..= MAX_SEED`.
+/// `--blend`, whose largest value is the smaller side of the tiles laid (checked with them).
+const BLEND: &str = "0 ..= the smaller tile side, in bins";
+
+/// `--dune-grid`, whose largest value is the surface's bins along its longer side, at most
+/// 16384 (checked with the surface).
+const DUNE_GRID: &str = "3 ..= the surface's bins along its longer side, at most 16384 nodes";
+
+/// `--seed`, `--seeds` and `--dune-seed` within [`SEEDS`].
 fn check_seeds(a: &Args) -> Result<()> {
     let seeds = std::iter::once(("--seed", a.seed))
         .chain(a.dune_seed.map(|s| ("--dune-seed", s)))
         .chain(a.seeds.iter().flatten().map(|&s| ("--seeds", s)));
     for (flag, s) in seeds {
-        if s > MAX_SEED {
-            bail!(
-                "{flag} = {s} is out of range: expected an integer in [0, 2^53 = {MAX_SEED}] (every output records it exactly as a number)"
-            );
+        if !SEEDS.contains(s) {
+            bail!("{flag} = {s} is out of range: expected {}", SEEDS.expected);
         }
     }
     Ok(())

@@ -11,6 +11,10 @@ use cellsurf::engine::io::write_atomic;
 use cellsurf::windripples::{self, Schedule, WindParams, WindRun};
 
 use super::conv::{self, Format, Outputs, Size};
+use cellsurf::engine::count::CountRange;
+
+/// `--threads`: worker threads, 0 for all cores.
+const THREADS: CountRange = CountRange::new(0, 4096, "0 (all cores) to 4096");
 
 /// Options of `cellsurf wind-ripples` (defaults: the notebook's `Params()`).
 #[derive(clap::Args, serde::Serialize, serde::Deserialize)]
@@ -30,14 +34,14 @@ pub struct Args {
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
     /// Steps of the loop (notebook N_step), 1 to 1e9 (`1e3` accepted).
-    #[arg(long, value_name = "N", value_parser = conv::parse_count, default_value_t = WindParams::default().steps)]
+    #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(windripples::params::STEPS), default_value_t = WindParams::default().steps)]
     steps: u64,
     /// Number of particles N (notebook N_particles = 2**16 * 8), 1 to 2^30; 24 bytes of memory
     /// each (48 while they are re-sorted).
-    #[arg(long, default_value_t = WindParams::default().particles, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = WindParams::default().particles, value_parser = conv::count_in::<usize>(windripples::params::PARTICLES))]
     particles: usize,
     /// Histogram size in cells, N or NxN (square, N from 1 to 4096).
-    #[arg(long, value_name = "N", alias = "bins", default_value_t = Size::square(WindParams::default().bins))]
+    #[arg(long, value_name = "N", alias = "bins", default_value_t = Size::square(WindParams::default().bins), value_parser = conv::size_in(windripples::params::SIZE_SIDES))]
     size: Size,
     /// Saltation sensitivity kappa >= 0 (hop = L sigmoid(-kappa h), h has mean 1).
     #[arg(long, default_value_t = WindParams::default().kappa, allow_negative_numbers = true, value_parser = parse_number)]
@@ -58,7 +62,7 @@ pub struct Args {
     #[arg(long, default_value_t = WindParams::default().seed, value_parser = conv::parse_seed)]
     seed: u64,
     /// Worker threads; 0 = all cores. The results do not depend on it.
-    #[arg(long, default_value_t = 0, value_parser = conv::parse_usize)]
+    #[arg(long, default_value_t = 0, value_parser = conv::count_in::<usize>(THREADS))]
     threads: usize,
     /// Output file, repeatable; the extension picks the format: .png (a picture of the final
     /// height field), .npy (the final height field, N x N float64, index [ix, iy] as the
@@ -144,10 +148,11 @@ pub fn run(a: Args) -> Result<()> {
     )?;
     let mut outs = Outputs::new(&a.out, "wind-ripples", &[Format::Png, Format::Npy])?;
     outs.add_legacy(Format::Npy, a.npy.as_ref())?;
-    if a.threads > 4096 {
+    if !THREADS.contains(a.threads as u64) {
         bail!(
-            "--threads = {} is out of range: 0 (all cores) to 4096",
-            a.threads
+            "--threads = {} is out of range: expected {}",
+            a.threads,
+            THREADS.expected
         );
     }
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());

@@ -66,6 +66,7 @@ pub mod wind;
 
 use thiserror::Error;
 
+use crate::engine::count::CountRange;
 use crate::engine::lattice::LatticeError;
 
 pub use display::SeaLevel;
@@ -89,6 +90,10 @@ pub const DEFAULT_SIZE: (usize, usize) = (240, 240);
 /// The largest grid, cells (`4096 x 4096`; the walk needs 40 bytes per cell, 32 for its
 /// table and 8 for the height, plus 16 for the wind field while the table is built).
 pub const MAX_CELLS: usize = 1 << 24;
+/// `steps`: steps of the walk.
+pub const STEPS: CountRange = CountRange::new(1, 1_000_000_000_000, "1 to 10^12");
+/// `--size`, as [`wind::check_size`] holds it.
+pub const SIZE_SIDES: &str = "sides of at least 3 cells, at most 2^24 = 16777216 cells in all";
 
 /// Errors of the cursor model: every one names the parameter or file at fault.
 #[derive(Debug, Error)]

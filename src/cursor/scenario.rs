@@ -112,10 +112,11 @@ impl CursorScenario {
             seed: k.seed.unwrap_or(1),
             sea,
         };
-        if s.steps == 0 || s.steps > 1_000_000_000_000 {
+        if !super::STEPS.contains(s.steps) {
             return Err(ScenarioError::new(format!(
-                "steps = {} is out of range: expected 1 to 10^12",
-                s.steps
+                "steps = {} is out of range: expected {}",
+                s.steps,
+                super::STEPS.expected
             )));
         }
         if !(s.k.is_finite() && (0.0..=1.0).contains(&s.k)) {

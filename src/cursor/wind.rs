@@ -34,6 +34,10 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::{CursorError, MAX_CELLS, MAX_WIND};
+use crate::engine::count::CountRange;
+
+/// `wind_arms`: arms of each star of the rotating generator.
+pub const ARMS: CountRange = CountRange::new(0, 12, "0 to 12");
 
 /// Direction of the red colour vector, degrees counter-clockwise from +x.
 pub const RED_DEG: f64 = 0.0;
@@ -815,7 +819,15 @@ impl WindSpec {
                 check_angle(angle_deg)?;
                 check("wind speed", speed, 0.0, MAX_WIND, speed_why)?;
                 check_distance("wind wavelength", wavelength)?;
-                check("wind arms", f64::from(arms), 0.0, 12.0, "")
+                if ARMS.contains(u64::from(arms)) {
+                    Ok(())
+                } else {
+                    Err(CursorError::Parameter {
+                        name: "wind arms",
+                        value: f64::from(arms),
+                        range: format!("expected {}", ARMS.expected),
+                    })
+                }
             }
         }
     }

@@ -58,7 +58,7 @@ impl DuneModel {
             DuneError::Parameter {
                 name: "grid",
                 value: format!("{n} ({e})"),
-                range: "3 to 4096 cells",
+                range: super::GRID.expected,
             }
         })?;
         let mut rng = stream(cfg.seed);

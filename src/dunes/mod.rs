@@ -146,6 +146,8 @@ pub use start::{Pile, Start, gaussian_pile};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::engine::count::CountRange;
+
 /// What one pick did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PickEvent {
@@ -183,6 +185,19 @@ pub const MAX_QUANTITY: f64 = 1e5;
 pub const MAX_WIND: f64 = 1e9;
 /// Largest number of iterations accepted.
 pub const MAX_ITERATIONS: u64 = 1_000_000_000;
+
+/// `size`: the side of the square periodic grid, 3 to [`MAX_GRID`] cells.
+pub const GRID: CountRange = CountRange::new(
+    3,
+    MAX_GRID as u64,
+    "3 to 4096 cells (a periodic grid needs at least 3 cells a side)",
+);
+/// `--size`, as [`GRID`] holds it.
+pub const SIZE_SIDES: &str = "sides of 3 to 4096 cells (a square grid)";
+/// `steps`: iterations, 0 to [`MAX_ITERATIONS`].
+pub const ITERATIONS: CountRange = CountRange::new(0, MAX_ITERATIONS, "0 to 10^9");
+/// `hop`: Werner's hop length of a slab, cells.
+pub const HOP: CountRange = CountRange::new(1, 1_000_000, "1 to 10^6 cells");
 
 /// Sand moved per pick in ripple mode (height units): the article's `q = 0.1`.
 pub const RIPPLE_Q: f64 = 0.1;
@@ -317,15 +332,15 @@ impl DuneConfig {
         let bad = |name: &'static str, value: String, range: &'static str| {
             Err(DuneError::Parameter { name, value, range })
         };
-        if self.grid < 3 || self.grid > MAX_GRID {
-            return bad(
-                "grid",
-                self.grid.to_string(),
-                "3 to 4096 cells (a periodic grid needs at least 3 cells a side)",
-            );
+        if !GRID.contains(self.grid as u64) {
+            return bad("grid", self.grid.to_string(), GRID.expected);
         }
-        if self.iterations > MAX_ITERATIONS {
-            return bad("iterations", self.iterations.to_string(), "0 to 10^9");
+        if !ITERATIONS.contains(self.iterations) {
+            return bad(
+                "iterations",
+                self.iterations.to_string(),
+                ITERATIONS.expected,
+            );
         }
         if !(self.quantity.is_finite() && (0.0..=MAX_QUANTITY).contains(&self.quantity)) {
             return bad(
@@ -343,8 +358,8 @@ impl DuneConfig {
         }
         if self.mode == Mode::Werner {
             let w = &self.werner;
-            if w.hop == 0 || w.hop > 1_000_000 {
-                return bad("hop", w.hop.to_string(), "1 to 10^6 cells");
+            if !HOP.contains(u64::from(w.hop)) {
+                return bad("hop", w.hop.to_string(), HOP.expected);
             }
             for (name, p) in [("p_sand", w.p_sand), ("p_bare", w.p_bare)] {
                 if !(p > 0.0 && p <= 1.0) {

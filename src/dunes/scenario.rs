@@ -58,9 +58,10 @@ impl DuneScenario {
             }
         };
         let hop = k.hop.unwrap_or(d.werner.hop);
-        if !(1..=1_000_000).contains(&hop) {
+        if !super::HOP.contains(u64::from(hop)) {
             return Err(ScenarioError::new(format!(
-                "hop = {hop} is out of range: expected 1 to 10^6 cells"
+                "hop = {hop} is out of range: expected {}",
+                super::HOP.expected
             )));
         }
         let config = DuneConfig {

@@ -8,6 +8,8 @@
 //!   offsets from here ([`lattice::MOORE`] for the 8-neighbour models).
 //! - [`surface`]: [`Surface`](surface::Surface), the surface sites partitioned by their count
 //!   of occupied neighbours (the growth samplers' `O(1)` picks).
+//! - [`count`]: [`CountRange`](count::CountRange), the range of a whole-number parameter,
+//!   shared by its model's check, its scenario reader and its command-line option.
 //! - [`sumtree`]: [`SumTree`](sumtree::SumTree), partial sums for weighted selection.
 //! - [`part`]: [`Part`](part::Part), one share of a job split over independent processes
 //!   (`--part i/N`).
@@ -43,6 +45,7 @@
 //! assert!(Lattice::new(Neighbourhood::Hex, 6, 5, Boundary::TORUS).is_err());
 //! ```
 
+pub mod count;
 pub mod io;
 pub mod lattice;
 pub mod part;

@@ -16,6 +16,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::engine::count::CountRange;
 use crate::engine::lattice::{Boundary, Lattice, LatticeError, Neighbourhood};
 use crate::growth::observe::{self, ColumnProfile};
 use crate::growth::rule::{RuleError, Sticking, Weight};
@@ -261,18 +262,37 @@ const WHOLE_KEYS: [&str; 8] = [
     "series",
 ];
 
+/// The range of a whole-number key in words, for a value past every count (`steps = 1e30`).
+fn whole_key_range(key: &str) -> Option<&'static str> {
+    match key {
+        "width" | "height" => Some(SIZE_SIDES),
+        "steps" => Some(STEPS.expected),
+        "events" => Some(EVENTS.expected),
+        "snapshots" => Some(SNAPSHOTS),
+        "ca_rule" => Some(CA_RULE),
+        "series" => Some(SERIES.expected),
+        _ => None,
+    }
+}
+
 /// Turns the whole-valued floats of the [`WHOLE_KEYS`] (`steps = 1e4`, a TOML float) into
 /// integers, as `--steps 1e4` is read; any other float there is refused, naming the key. A
-/// whole number past every count (`steps = 1e30`, `inf`) is refused with the key's own range
-/// from the checks of `defaults` (the scene's), the value as written.
-fn whole_numbers(table: &mut toml::Table, defaults: &SceneConfig) -> Result<(), SceneError> {
+/// whole number past every count (`steps = 1e30`, `inf`, in a list too) is refused with the
+/// key's own range ([`whole_key_range`], the words its check and its option state), the value
+/// as written.
+fn whole_numbers(table: &mut toml::Table) -> Result<(), SceneError> {
     const PAST: f64 = 9_223_372_036_854_775_808.0; // 2^63: the largest TOML integer is 2^63 - 1
-    let refuse = |key: &str, f: f64| {
-        SceneError::Toml(format!(
+    let refuse = |key: &'static str, f: f64| match whole_key_range(key) {
+        Some(expected) if f >= PAST => SceneError::Range {
+            parameter: key,
+            value: crate::ripple::params::shown(f),
+            expected: expected.into(),
+        },
+        _ => SceneError::Toml(format!(
             "`{key}` = {f}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)"
-        ))
+        )),
     };
-    let whole = |key: &str, v: &mut toml::Value| -> Result<(), SceneError> {
+    let whole = |key: &'static str, v: &mut toml::Value| -> Result<(), SceneError> {
         if let toml::Value::Float(f) = *v {
             if !((0.0..PAST).contains(&f) && f.fract() == 0.0) {
                 return Err(refuse(key, f));
@@ -284,32 +304,6 @@ fn whole_numbers(table: &mut toml::Table, defaults: &SceneConfig) -> Result<(), 
     for key in WHOLE_KEYS {
         match table.get_mut(key) {
             Some(toml::Value::Array(a)) => a.iter_mut().try_for_each(|v| whole(key, v))?,
-            Some(toml::Value::Float(f)) if *f >= PAST => {
-                // (the largest count stands in: the key's range check refuses it)
-                let f = *f;
-                let mut t =
-                    toml::Table::try_from(defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
-                t.insert(key.into(), toml::Value::Integer(i64::MAX));
-                let check = toml::Value::Table(t)
-                    .try_into::<SceneConfig>()
-                    .map(|c| c.validate());
-                return Err(match check {
-                    Ok(Err(SceneError::Range {
-                        parameter,
-                        expected,
-                        ..
-                    })) if parameter == key
-                        || parameter == "size" && matches!(key, "width" | "height") =>
-                    {
-                        SceneError::Range {
-                            parameter: key,
-                            value: crate::ripple::params::shown(f),
-                            expected,
-                        }
-                    }
-                    _ => refuse(key, f),
-                });
-            }
             Some(v) => whole(key, v)?,
             None => {}
         }
@@ -319,6 +313,27 @@ fn whole_numbers(table: &mut toml::Table, defaults: &SceneConfig) -> Result<(), 
 
 /// The largest step count: the clock is exact in `f64` below `2^53`.
 pub const MAX_STEPS: u64 = 1 << 53;
+
+/// `steps`: timesteps of a run (0, no clock limit, only where an event count or an occupied
+/// fraction stops it).
+pub const STEPS: CountRange = CountRange::new(
+    0,
+    MAX_STEPS,
+    "1 to 9007199254740992 (0, no clock limit, only with events or until_occupied)",
+);
+/// `events`: accepted events that stop a run.
+pub const EVENTS: CountRange = CountRange::new(1, MAX_STEPS, "1 to 9007199254740992");
+/// `snapshots`: timesteps, each at most the run's `steps` (the check gives its value).
+pub const SNAPSHOTS: &str = "timesteps of at most steps";
+/// `series`: points of the observables' time series.
+pub const SERIES: CountRange = CountRange::new(1, 100_000, "1 to 100000 points");
+/// `ca_rule`: neighbour counts, each at most the lattice's neighbours `z` (the check gives
+/// its value).
+pub const CA_RULE: &str =
+    "neighbour counts from 1 to z, the lattice's neighbours (6 on hex, 4 or 8 on square)";
+/// `size`, as the lattice's checks hold it.
+pub const SIZE_SIDES: &str = "sides of 1 to 2^20 cells (at least 3 along a periodic axis, rows \
+     even on a hex torus), at most 2^28 - 1 = 268435455 cells in all";
 
 impl SceneConfig {
     /// The defaults of a scene, chosen so that the figures show what the paper describes
@@ -433,7 +448,7 @@ impl SceneConfig {
         let base = toml::Table::try_from(&defaults).map_err(|e| SceneError::Toml(e.to_string()))?;
         let mut merged = base.clone();
         let mut table = table;
-        whole_numbers(&mut table, &defaults)?;
+        whole_numbers(&mut table)?;
         let snapshots_given = table.contains_key("snapshots");
         let steps_given = table.contains_key("steps");
         for (k, v) in table {
@@ -490,12 +505,8 @@ impl SceneConfig {
         let lattice = Lattice::new(self.lattice, self.width, self.height, self.boundary)?;
         Sticking::new(self.n, self.lattice.z())?;
         let event_stop = self.events.is_some() || self.until_occupied.is_some();
-        if self.steps > MAX_STEPS || (self.steps == 0 && !event_stop) {
-            return Err(range(
-                "steps",
-                self.steps,
-                format!("1 to {MAX_STEPS} (0, no clock limit, only with events or until_occupied)"),
-            ));
+        if !STEPS.contains(self.steps) || (self.steps == 0 && !event_stop) {
+            return Err(range("steps", self.steps, STEPS.expected));
         }
         if self.steps == 0 && self.sampler == SamplerKind::Rejection {
             return Err(range(
@@ -506,9 +517,9 @@ impl SceneConfig {
             ));
         }
         if let Some(e) = self.events
-            && (e == 0 || e > MAX_STEPS)
+            && !EVENTS.contains(e)
         {
-            return Err(range("events", e, format!("1 to {MAX_STEPS}")));
+            return Err(range("events", e, EVENTS.expected));
         }
         if let Some(f) = self.until_occupied
             && !(f > 0.0 && f <= 1.0)
@@ -535,7 +546,7 @@ impl SceneConfig {
             return Err(range(
                 "snapshots",
                 last,
-                format!("every snapshot must be at most steps = {}", self.steps),
+                format!("{SNAPSHOTS} = {}", self.steps),
             ));
         }
         if self.snapshots.len() > 64 {
@@ -545,8 +556,8 @@ impl SceneConfig {
                 "at most 64 snapshots",
             ));
         }
-        if !(1..=100_000).contains(&self.series) {
-            return Err(range("series", self.series, "1 to 100000 points"));
+        if !SERIES.contains(self.series as u64) {
+            return Err(range("series", self.series, SERIES.expected));
         }
 
         let z = self.lattice.z();
@@ -554,7 +565,7 @@ impl SceneConfig {
             return Err(range(
                 "ca_rule",
                 format!("{:?}", self.ca_rule),
-                format!("a non-empty list of neighbour counts from 1 to z = {z}"),
+                format!("a non-empty list of {CA_RULE}; z = {z} here"),
             ));
         }
         let (pw, ph) = lattice.physical_size();
@@ -1651,6 +1662,15 @@ mod tests {
             (
                 "steps = inf",
                 "steps = inf is out of range: 1 to 9007199254740992",
+            ),
+            // in a list too, with the words the option's parser states
+            (
+                "snapshots = [1, 1e30]",
+                "snapshots = 1e30 is out of range: timesteps of at most steps",
+            ),
+            (
+                "ca_rule = [inf]",
+                "ca_rule = inf is out of range: neighbour counts",
             ),
         ] {
             let e = SceneConfig::from_toml(&format!("scene = \"grow\"\n{text}\n"))

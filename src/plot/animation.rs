@@ -4,6 +4,10 @@ use std::path::{Path, PathBuf};
 
 use super::PlotError;
 use super::raster::{BACKGROUND, CellField, Palette, palette_index, rasterize_codes};
+use crate::engine::count::CountRange;
+
+/// The frames of an animation after its initial state (`--gif-frames`).
+pub const GIF_FRAMES: CountRange = CountRange::new(1, 2000, "1 to 2000");
 
 /// Most palette colours a GIF frame can use: 256 less one entry for the background.
 const GIF_STATE_COLORS: usize = 255;

@@ -39,7 +39,7 @@ pub mod table;
 #[cfg(test)]
 mod tests;
 
-pub use animation::GifWriter;
+pub use animation::{GIF_FRAMES, GifWriter};
 pub use charts::{Chart, ChartTable, Series, line_charts, record_charts};
 pub use field::{ColorRamp, Mark, Sheet};
 pub(crate) use figure::scenario_files;

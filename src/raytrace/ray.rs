@@ -37,6 +37,10 @@
 use super::profile::row_tol;
 use super::seafloor::Seafloor;
 use super::{RaytraceError, SoundSpeed, check_range};
+use crate::engine::count::CountRange;
+
+/// `max_bounces`: the most reflections of a ray (surface and floor).
+pub const MAX_BOUNCES: CountRange = CountRange::new(0, 100_000, "an integer in [0, 100000]");
 
 /// Options of a trace.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,11 +62,11 @@ impl TraceOptions {
     pub fn validate(&self) -> Result<(), RaytraceError> {
         check_range("ds", self.ds, 1e-6, 1e5, "m")?;
         check_range("max path", self.max_path, self.ds, 1e8, "m (at least ds)")?;
-        if self.max_bounces > 100_000 {
+        if !MAX_BOUNCES.contains(self.max_bounces as u64) {
             return Err(super::range_err(
                 "max bounces",
                 self.max_bounces,
-                "an integer in [0, 100000]",
+                MAX_BOUNCES.expected,
             ));
         }
         let steps = self.max_path / self.ds;

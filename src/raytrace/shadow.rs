@@ -32,6 +32,10 @@
 use super::ray::{Ray, Surface, TraceOptions, Tracer};
 use super::seafloor::Seafloor;
 use super::{RHO_WATER, RaytraceError, check_range, range_err};
+use crate::engine::count::CountRange;
+
+/// `rays`: the rays of a fan.
+pub const RAYS: CountRange = CountRange::new(2, 10_000_000, "an integer in [2, 10000000]");
 
 /// Normal-incidence reflection coefficient R0 = (Z2 - Z1) / (Z2 + Z1) of a sediment of
 /// impedance `z2` under water of impedance `z1` (Jensen et al. 2011, Computational Ocean Acoustics, ch. 1).
@@ -103,12 +107,8 @@ impl Fan {
 
     /// Checks the fan against the floor.
     pub fn validate(&self, tracer: &Tracer<'_>) -> Result<(), RaytraceError> {
-        if !(2..=10_000_000).contains(&self.rays()) {
-            return Err(range_err(
-                "rays",
-                self.rays(),
-                "an integer in [2, 10000000]",
-            ));
+        if !RAYS.contains(self.rays() as u64) {
+            return Err(range_err("rays", self.rays(), RAYS.expected));
         }
         match *self {
             Fan::Point {

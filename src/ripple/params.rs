@@ -10,6 +10,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::RippleError;
+use crate::engine::count::CountRange;
 
 /// One section (2-D, Sect. 2.1 of the paper) or a whole volume (3-D, Sect. 2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -283,6 +284,24 @@ impl Default for RippleParams {
         }
     }
 }
+
+/// `seed`: 0 to 2^53, the largest integer every output records exactly (a NetCDF-3
+/// attribute is a double).
+pub const SEED: CountRange = CountRange::new(
+    0,
+    1 << 53,
+    "an integer in [0, 2^53 = 9007199254740992] (recorded exactly in the output files)",
+);
+/// `nx`: bins along x.
+pub const NX: CountRange = CountRange::new(3, 1 << 16, "an integer in [3, 65536]");
+/// `ny`: bins along y in 3-D mode (a 2-D section has one).
+pub const NY: CountRange = CountRange::new(3, 1 << 16, "an integer in [3, 65536] in 3-D mode");
+/// `--size NXxNY`, as [`NX`] and [`NY`] hold it.
+pub const SIZE_SIDES: &str = "sides of 3 to 65536 bins (NY 1 in 2-D mode)";
+/// `layers`: mean initial sand thickness, automata per column.
+pub const LAYERS: CountRange = CountRange::new(1, 4096, "an integer in [1, 4096]");
+/// `steps`: steps of a run.
+pub const STEPS: CountRange = CountRange::new(0, 1 << 40, "an integer in [0, 2^40]");
 
 fn range(parameter: &'static str, value: impl fmt::Display, expected: &str) -> RippleError {
     RippleError::Range {
@@ -631,12 +650,8 @@ impl RippleParams {
 
     /// Checks every parameter; the error names the parameter, its value and the valid range.
     pub fn validate(&self) -> Result<(), RippleError> {
-        if self.seed > 1 << 53 {
-            return Err(range(
-                "seed",
-                self.seed,
-                "an integer in [0, 2^53 = 9007199254740992] (recorded exactly in the output files)",
-            ));
+        if !SEED.contains(self.seed) {
+            return Err(range("seed", self.seed, SEED.expected));
         }
         if self.mode == Mode::TwoD {
             let a = self.current_angle.rem_euclid(360.0);
@@ -648,14 +663,14 @@ impl RippleParams {
                 ));
             }
         }
-        if !(3..=1 << 16).contains(&self.nx) {
-            return Err(range("nx", self.nx, "an integer in [3, 65536]"));
+        if !NX.contains(self.nx as u64) {
+            return Err(range("nx", self.nx, NX.expected));
         }
-        if self.mode == Mode::ThreeD && !(3..=1 << 16).contains(&self.ny) {
-            return Err(range("ny", self.ny, "an integer in [3, 65536] in 3-D mode"));
+        if self.mode == Mode::ThreeD && !NY.contains(self.ny as u64) {
+            return Err(range("ny", self.ny, NY.expected));
         }
-        if !(1..=4096).contains(&self.layers) {
-            return Err(range("layers", self.layers, "an integer in [1, 4096]"));
+        if !LAYERS.contains(self.layers as u64) {
+            return Err(range("layers", self.layers, LAYERS.expected));
         }
         if self.headroom > 16384 {
             return Err(range("headroom", self.headroom, "an integer in [0, 16384]"));
@@ -688,8 +703,8 @@ impl RippleParams {
             true,
         )?;
         self.check_layer_thickness()?;
-        if self.steps > 1 << 40 {
-            return Err(range("steps", self.steps, "an integer in [0, 2^40]"));
+        if !STEPS.contains(self.steps) {
+            return Err(range("steps", self.steps, STEPS.expected));
         }
         if let Some(u) = &self.until
             && u != "equilibrium"

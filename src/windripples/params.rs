@@ -7,6 +7,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::engine::count::CountRange;
 use crate::engine::scenario::{self, GridSize, ScenarioError};
 
 /// Largest number of bins per side (`bins^2` = 16,777,216 cells, 64 MiB of counts).
@@ -14,6 +15,16 @@ pub const MAX_BINS: usize = 4096;
 /// Largest number of particles (24 bytes each, 48 while they are sorted: 48 GiB at this
 /// limit).
 pub const MAX_PARTICLES: usize = 1 << 30;
+/// `particles`: 1 to [`MAX_PARTICLES`].
+pub const PARTICLES: CountRange =
+    CountRange::new(1, MAX_PARTICLES as u64, "1 to 1073741824 (2^30)");
+/// `bins`: histogram cells per side, 1 to [`MAX_BINS`].
+pub const BINS: CountRange =
+    CountRange::new(1, MAX_BINS as u64, "1 to 4096 (bins^2 histogram cells)");
+/// `--size`, as [`BINS`] holds it.
+pub const SIZE_SIDES: &str = "sides of 1 to 4096 cells (a square histogram)";
+/// `steps`: steps of the loop.
+pub const STEPS: CountRange = CountRange::new(1, 1_000_000_000, "1 to 1000000000 (1e9)");
 /// Largest hop `L` and diffusion `D` accepted (the torus has size 1: far larger values only
 /// lose the position's precision).
 pub const MAX_LENGTH: f64 = 1e6;
@@ -70,7 +81,7 @@ impl FromStr for Schedule {
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum WindError {
     /// `name = value` is outside `range`.
-    #[error("{name} = {value} is out of range: {range}")]
+    #[error("{name} = {value} is out of range: expected {range}")]
     OutOfRange {
         /// The parameter (as on the command line: `particles`, `bins`, `steps`, `kappa`, `hop`,
         /// `diffusion`).
@@ -190,33 +201,20 @@ impl WindParams {
 
     /// Checks every parameter; the error names the first one out of range.
     pub fn validate(&self) -> Result<(), WindError> {
-        const MAX_STEPS: u64 = 1_000_000_000;
-        if self.particles == 0 || self.particles > MAX_PARTICLES {
-            return Err(WindError::out_of_range(
-                "particles",
-                self.particles,
-                "1 to 1073741824 (2^30)",
-            ));
-        }
-        if self.bins == 0 || self.bins > MAX_BINS {
-            return Err(WindError::out_of_range(
-                "bins",
-                self.bins,
-                "1 to 4096 (bins^2 histogram cells)",
-            ));
-        }
-        if self.steps == 0 || self.steps > MAX_STEPS {
-            return Err(WindError::out_of_range(
-                "steps",
-                self.steps,
-                "1 to 1000000000 (1e9)",
-            ));
+        for (name, v, r) in [
+            ("particles", self.particles as u64, PARTICLES),
+            ("bins", self.bins as u64, BINS),
+            ("steps", self.steps, STEPS),
+        ] {
+            if !r.contains(v) {
+                return Err(WindError::out_of_range(name, v, r.expected));
+            }
         }
         if !(self.kappa.is_finite() && self.kappa >= 0.0) {
             return Err(WindError::out_of_range(
                 "kappa",
                 self.kappa,
-                "finite and >= 0",
+                "a finite number >= 0",
             ));
         }
         if !(self.hop.is_finite() && (0.0..=MAX_LENGTH).contains(&self.hop)) {
