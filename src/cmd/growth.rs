@@ -414,7 +414,7 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     }
     if !GIF_FRAMES.contains(a.gif_frames as u64) {
         bail!(
-            "--gif-frames = {} is out of range: {}",
+            "--gif-frames = {} is out of range: expected {}",
             a.gif_frames,
             GIF_FRAMES.expected
         );
@@ -437,7 +437,9 @@ fn name_default(e: scene::SceneError, a: &GrowArgs) -> anyhow::Error {
         && !conv::typed(parameter)
         && let Some(flag) = conv::typed_flag(parameter)
     {
-        return anyhow::anyhow!("{flag} = {value} (the default) is out of range: {expected}");
+        return anyhow::anyhow!(
+            "{flag} = {value} (the default) is out of range: expected {expected}"
+        );
     }
     e.into()
 }
@@ -866,7 +868,7 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
     }
     if !SEEDS_RANGE.contains(a.seeds as u64) {
         bail!(
-            "--seeds = {} is out of range: {}",
+            "--seeds = {} is out of range: expected {}",
             a.seeds,
             SEEDS_RANGE.expected
         );

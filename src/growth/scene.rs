@@ -166,7 +166,7 @@ pub enum SceneError {
     #[error(transparent)]
     Growth(#[from] GrowthError),
     /// A numeric parameter is out of range.
-    #[error("{parameter} = {value} is out of range: {expected}")]
+    #[error("{parameter} = {value} is out of range: expected {expected}")]
     Range {
         /// The parameter's name.
         parameter: &'static str,
@@ -535,7 +535,7 @@ impl SceneConfig {
                 return Err(range(
                     "snapshots",
                     format!("{:?}", self.snapshots),
-                    "timesteps must be strictly increasing",
+                    "timesteps strictly increasing",
                 ));
             }
         }
@@ -581,7 +581,7 @@ impl SceneConfig {
         if !ok {
             let expected = match self.shape {
                 Shape::Square | Shape::Disc => format!(
-                    "the {} must be > 0 and fit the lattice (at most {:.1} cell widths)",
+                    "a {} above 0 that fits the lattice (at most {:.1} cell widths)",
                     if self.shape == Shape::Square {
                         "square's side"
                     } else {
@@ -590,13 +590,11 @@ impl SceneConfig {
                     pw.min(ph)
                 ),
                 Shape::Cosine => format!(
-                    "the amplitude must be >= 0 and the trough fit the lattice (below {:.1})",
+                    "an amplitude >= 0 whose trough fits the lattice (below {:.1})",
                     0.45 * ph
                 ),
                 Shape::Flat => {
-                    format!(
-                        "the layer must be > 0 and leave the top row empty (at most {top_row:.2})"
-                    )
+                    format!("a layer above 0 that leaves the top row empty (at most {top_row:.2})")
                 }
                 Shape::Point => "a finite size >= 0 cell widths (unused by a point)".into(),
             };
@@ -669,7 +667,7 @@ impl SceneConfig {
                 "start",
                 s,
                 format!(
-                    "the initial {} holds no cell of the lattice: make it larger",
+                    "an initial {} that holds a cell of the lattice: make it larger",
                     self.shape.name()
                 ),
             ));
@@ -1657,20 +1655,20 @@ mod tests {
             // past every count: the key's own range, the value as written
             (
                 "series = 1e30",
-                "series = 1e30 is out of range: 1 to 100000",
+                "series = 1e30 is out of range: expected 1 to 100000",
             ),
             (
                 "steps = inf",
-                "steps = inf is out of range: 1 to 9007199254740992",
+                "steps = inf is out of range: expected 1 to 9007199254740992",
             ),
             // in a list too, with the words the option's parser states
             (
                 "snapshots = [1, 1e30]",
-                "snapshots = 1e30 is out of range: timesteps of at most steps",
+                "snapshots = 1e30 is out of range: expected timesteps of at most steps",
             ),
             (
                 "ca_rule = [inf]",
-                "ca_rule = inf is out of range: neighbour counts",
+                "ca_rule = inf is out of range: expected neighbour counts",
             ),
         ] {
             let e = SceneConfig::from_toml(&format!("scene = \"grow\"\n{text}\n"))
