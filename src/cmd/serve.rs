@@ -34,8 +34,8 @@ const MAX_SESSIONS: CountRange = CountRange::new(1, 1024, "1 to 1024 sessions");
 fn parse_max_sessions(s: &str) -> Result<u64, String> {
     match super::conv::count_in::<u64>(MAX_SESSIONS)(s)? {
         v if MAX_SESSIONS.contains(v) => Ok(v),
-        v => Err(format!(
-            "{v} is out of range: expected {}",
+        _ => Err(format!(
+            "'{s}' is out of range: expected {}",
             MAX_SESSIONS.expected
         )),
     }
@@ -107,6 +107,14 @@ mod tests {
                 "{bad}: {e}"
             );
         }
-        assert!(parse_max_sessions("0").unwrap_err().contains("1 to 1024"));
+        // the value as typed, quoted, whether the type holds it or not
+        for bad in ["0", "1025", "1e19"] {
+            assert_eq!(
+                parse_max_sessions(bad),
+                Err(format!(
+                    "'{bad}' is out of range: expected 1 to 1024 sessions"
+                ))
+            );
+        }
     }
 }
