@@ -15,14 +15,14 @@ use crate::engine::lattice::Lattice;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum RuleError {
     /// The exponent is negative or not finite.
-    #[error("n = {0} is out of range: the power-law exponent must be a finite number >= 0")]
+    #[error("n = {0} is out of range: expected a finite power-law exponent >= 0")]
     Exponent(f64),
     /// The neighbourhood size is not supported.
-    #[error("neighbourhood size z = {0} is out of range: it must be between 1 and 8")]
+    #[error("neighbourhood size z = {0} is out of range: expected 1 to 8")]
     NeighbourhoodSize(usize),
     /// A weight function returned a value outside [0, 1].
     #[error(
-        "weight v = {value} at position ({x:.3}, {y:.3}) is out of range: v multiplies a probability, so it must lie in [0, 1]"
+        "weight v = {value} at position ({x:.3}, {y:.3}) is out of range: expected a value in [0, 1] (v multiplies a probability)"
     )]
     WeightValue {
         /// The value returned.
