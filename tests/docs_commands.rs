@@ -379,3 +379,43 @@ fn extraction_applies_markers_and_joins_continued_lines() {
     );
     assert_eq!(got[0].line, 4);
 }
+
+/// The messages the docs quote after a `$ cellsurf ...` line (an `error:` or `warning:` line in
+/// a text block) are what that command prints on stderr, word for word.
+#[test]
+fn quoted_messages_are_what_the_commands_print() {
+    let dir = workdir("quoted");
+    let mut checked = 0;
+    for path in doc_files() {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            let Some(args) = line.strip_prefix("$ cellsurf ") else {
+                continue;
+            };
+            let quoted: Vec<&str> = lines[i + 1..]
+                .iter()
+                .take_while(|l| !l.starts_with("$ ") && !l.starts_with("```"))
+                .filter(|l| l.starts_with("error: ") || l.starts_with("warning: "))
+                .copied()
+                .collect();
+            let out = Command::new(env!("CARGO_BIN_EXE_cellsurf"))
+                .args(args.split_whitespace())
+                .current_dir(&dir)
+                .stdin(Stdio::null())
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            for q in quoted {
+                assert!(
+                    stderr.lines().any(|l| l == q),
+                    "{}:{}: `cellsurf {args}` no longer prints\n  {q}\nbut:\n{stderr}",
+                    path.display(),
+                    i + 1
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 4, "only {checked} quoted messages found");
+}
