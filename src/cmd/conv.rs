@@ -370,11 +370,11 @@ fn spellings(a: &clap::Arg, words: &[String]) -> Vec<String> {
 fn too_large(s: &str, max: u64) -> String {
     if max >= MAX_SEED {
         format!(
-            "'{s}' is too large: at most {MAX_SEED} (2^63 - 1, the largest whole number a \
-             scenario file holds)"
+            "'{s}' is out of range: expected at most {MAX_SEED} (2^63 - 1, the largest whole \
+             number a scenario file holds)"
         )
     } else {
-        format!("'{s}' is too large: at most {max}")
+        format!("'{s}' is out of range: expected at most {max}")
     }
 }
 
@@ -610,8 +610,8 @@ pub const MAX_SEED: u64 = i64::MAX as u64;
 pub fn parse_seed(s: &str) -> Result<u64, String> {
     let out_of_range = || {
         format!(
-            "{s} is out of range: a seed is a whole number from 0 to {MAX_SEED} (2^63 - 1, the \
-             largest a scenario file holds)"
+            "'{s}' is out of range: expected a seed, a whole number from 0 to {MAX_SEED} (2^63 - \
+             1, the largest a scenario file holds)"
         )
     };
     let v = match parse_whole(s) {
@@ -1108,10 +1108,20 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
             // parser's own message names Rust types).
             for (k, v) in &from_file {
                 if !fits::<A>(&defaults, k, v) {
+                    let expected = expected_by_option(k, v);
+                    // (a whole number too large to hold: the key's range, the value as written)
+                    if let (toml::Value::Float(f), Some((_, range))) =
+                        (v, expected.split_once("' is out of range: "))
+                    {
+                        bail!(
+                            "{flag} {}: {k} = {} is out of range: {range}",
+                            path.display(),
+                            cellsurf::ripple::params::shown(*f)
+                        );
+                    }
                     bail!(
-                        "{flag} {}: {k} = {v} is not a valid value: {}",
-                        path.display(),
-                        expected_by_option(k, v)
+                        "{flag} {}: {k} = {v} is not a valid value: {expected}",
+                        path.display()
                     );
                 }
             }
