@@ -289,7 +289,8 @@ fn whole_numbers(table: &mut toml::Table) -> Result<(), SceneError> {
             expected: expected.into(),
         },
         _ => SceneError::Toml(format!(
-            "`{key}` = {f}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)"
+            "`{key}` = {}: expected a whole number from 0 to 2^63 - 1 (e.g. 10000 or 1e4)",
+            crate::ripple::params::shown(f)
         )),
     };
     let whole = |key: &'static str, v: &mut toml::Value| -> Result<(), SceneError> {
@@ -1652,6 +1653,11 @@ mod tests {
             ("steps = 1.5", "`steps` = 1.5: expected a whole number"),
             ("snapshots = [10, 2.5]", "`snapshots` = 2.5"),
             ("events = -1e3", "`events` = -1000"),
+            // a seed past every count, as written (its range is what a file holds)
+            (
+                "seed = 1e30",
+                "`seed` = 1e30: expected a whole number from 0 to 2^63 - 1",
+            ),
             // past every count: the key's own range, the value as written
             (
                 "series = 1e30",
