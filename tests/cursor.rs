@@ -453,7 +453,7 @@ fn force_constant_outside_zero_one_is_rejected() {
         let e = Transitions::new(&field, k).unwrap_err();
         assert!(matches!(e, CursorError::ForceConstant(_)));
         let m = e.to_string();
-        assert!(m.contains("k = ") && m.contains("between 0 and 1"), "{m}");
+        assert!(m.contains("k = ") && m.contains("expected 0 to 1"), "{m}");
     }
     assert!(Transitions::new(&field, 0.0).is_ok());
     assert!(Transitions::new(&field, 1.0).is_ok());

@@ -277,7 +277,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     if !(a.k.is_finite() && (0.0..=1.0).contains(&a.k)) {
         bail!(
-            "k = {} is out of range: the force constant must be between 0 and 1, so that every probability P_i = 1/8 + k (W . u_i) / 1760 stays between 0 and 1",
+            "k = {} is out of range: expected a force constant from 0 to 1, so that every probability P_i = 1/8 + k (W . u_i) / 1760 stays between 0 and 1",
             a.k
         );
     }

@@ -51,19 +51,19 @@ impl SeaLevel {
                 "sea_level",
                 v,
                 v >= 0.0,
-                "it must be a height of at least 0 visits",
+                "expected a height of at least 0 visits",
             ),
             SeaLevel::MeanFraction(v) => (
                 "sea_fraction",
                 v,
                 v >= 0.0,
-                "it must be a fraction of the mean height of at least 0",
+                "expected a fraction of the mean height of at least 0",
             ),
             SeaLevel::Quantile(v) => (
                 "sea_quantile",
                 v,
                 (0.0..=1.0).contains(&v),
-                "it must be between 0 and 1",
+                "expected 0 to 1",
             ),
         };
         if v.is_finite() && ok {

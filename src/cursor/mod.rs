@@ -100,7 +100,7 @@ pub const SIZE_SIDES: &str = "sides of at least 3 cells, at most 2^24 = 16777216
 pub enum CursorError {
     /// The force constant is outside `[0, 1]`.
     #[error(
-        "force constant k = {0} is out of range: it must be between 0 and 1 so that every probability P_i = 1/8 + k (W . u_i) / 1760 stays between 0 and 1"
+        "force constant k = {0} is out of range: expected 0 to 1, so that every probability P_i = 1/8 + k (W . u_i) / 1760 stays between 0 and 1"
     )]
     ForceConstant(f64),
     /// A wind is faster than 220 (or not finite).

@@ -286,7 +286,7 @@ impl WindField {
             return Err(CursorError::Parameter {
                 name: "wind scale",
                 value: scale,
-                range: "it must be a finite number >= 0".into(),
+                range: "expected a finite number >= 0".into(),
             });
         }
         let png_err = |reason: String| CursorError::Png {
@@ -931,7 +931,7 @@ fn check(name: &'static str, value: f64, lo: f64, hi: f64, unit: &str) -> Result
         Err(CursorError::Parameter {
             name,
             value,
-            range: format!("it must be between {lo} and {hi}{unit}"),
+            range: format!("expected {lo} to {hi}{unit}"),
         })
     }
 }

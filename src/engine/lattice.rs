@@ -211,7 +211,7 @@ impl fmt::Display for Boundary {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum LatticeError {
     /// A dimension is zero or too large.
-    #[error("lattice {axis} = {value} is out of range: it must be between 1 and {max}")]
+    #[error("lattice {axis} = {value} is out of range: expected 1 to {max}")]
     Size {
         /// `width` or `height`.
         axis: &'static str,
