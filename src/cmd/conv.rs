@@ -1109,14 +1109,16 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
             for (k, v) in &from_file {
                 if !fits::<A>(&defaults, k, v) {
                     let expected = expected_by_option(k, v);
-                    // (a whole number too large to hold: the key's range, the value as written)
-                    if let (toml::Value::Float(f), Some((_, range))) =
-                        (v, expected.split_once("' is out of range: "))
-                    {
+                    // (a value the option's parser holds out of range, `1e30` or a size of
+                    // "0": the key's range, the value as written)
+                    if let Some((_, range)) = expected.split_once("' is out of range: ") {
+                        let shown = match v {
+                            toml::Value::Float(f) => cellsurf::ripple::params::shown(*f),
+                            v => v.to_string(),
+                        };
                         bail!(
-                            "{flag} {}: {k} = {} is out of range: {range}",
-                            path.display(),
-                            cellsurf::ripple::params::shown(*f)
+                            "{flag} {}: {k} = {shown} is out of range: {range}",
+                            path.display()
                         );
                     }
                     bail!(
