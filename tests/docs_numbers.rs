@@ -1,0 +1,555 @@
+//! The validation numbers that README.md and docs/ripple.md quote are those of the committed
+//! study table, `figures/data/ripple_validation.csv` (written by `cellsurf converge
+//! ripple_validation`, drawn into `ripple_validation.png` by `cellsurf figures`), and the
+//! predicted values beside them are the predictors' (`cellsurf::ripple::predictors`); the
+//! wavelengths that docs/ripple.md quotes from the error study against the bin are those of
+//! `figures/data/ripple_error_vs_time.csv`, and the ray tracer's error table in
+//! docs/raytrace.md is `figures/data/raytrace_error_vs_time.csv`, and the dunes' means and
+//! standard errors in docs/dunes.md are `figures/data/dunes_error_vs_time.csv`'s, and the wind
+//! ripples' in docs/windripples.md `figures/data/windripples_error_vs_time.csv`'s.
+//!
+//! A rerun of the study that moves a mean, a standard error or a percentage derived from them
+//! fails here, naming the file, the row and both numbers, until the docs follow. A written
+//! number matches when it is the table's value rounded to the digits it is written with.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use cellsurf::ripple::predictors::{soulsby_whitehouse, wiberg_harris};
+
+/// The grain sizes of the current cases, mm (the x of the current charts).
+const D50_MM: [f64; 3] = [0.1, 0.2, 0.4];
+/// The orbital diameters of the wave cases, m (x of the wave charts in cm).
+const D0_M: [f64; 3] = [0.2, 0.3, 0.4];
+/// The wave cases' grain size, m.
+const WAVE_D50_M: f64 = 0.3e-3;
+
+/// The study's points: `(chart, series)` to the `(x, y)` of its rows, in order.
+struct Study(HashMap<(usize, usize), Vec<(f64, f64)>>);
+
+impl Study {
+    /// `figures/data/NAME.csv`.
+    fn load(name: &str) -> Self {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("figures/data/{name}.csv"));
+        let text = std::fs::read_to_string(&path).expect("the committed study table");
+        let mut points: HashMap<(usize, usize), Vec<(f64, f64)>> = HashMap::new();
+        for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+            let f: Vec<&str> = line.split(',').collect();
+            assert_eq!(f.len(), 4, "a row of chart,series,x,y: {line}");
+            let (x, y): (f64, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap());
+            if x.is_nan() {
+                continue;
+            }
+            points
+                .entry((f[0].parse().unwrap(), f[1].parse().unwrap()))
+                .or_default()
+                .push((x, y));
+        }
+        Study(points)
+    }
+
+    fn at(&self, chart: usize, series: usize, x: f64) -> Vec<f64> {
+        let ys: Vec<f64> = self
+            .0
+            .get(&(chart, series))
+            .unwrap_or_else(|| panic!("chart {chart} has no series {series}"))
+            .iter()
+            .filter(|p| (p.0 - x).abs() < 1e-9)
+            .map(|p| p.1)
+            .collect();
+        assert!(
+            !ys.is_empty(),
+            "chart {chart}, series {series}: no point at x = {x}"
+        );
+        ys
+    }
+
+    /// A mean series' value at `x`.
+    fn mean(&self, chart: usize, series: usize, x: f64) -> f64 {
+        self.at(chart, series, x)[0]
+    }
+
+    /// The standard error of the mean series `series`: half its bar, drawn as the next series.
+    fn se(&self, chart: usize, series: usize, x: f64) -> f64 {
+        let bar = self.at(chart, series + 1, x);
+        assert_eq!(
+            bar.len(),
+            2,
+            "chart {chart}: the bar of series {series} at x = {x}"
+        );
+        (bar[1] - bar[0]).abs() / 2.0
+    }
+}
+
+/// Whether `written` ("17.7", "+23", "151") is `value` rounded to the digits it is written with
+/// (either neighbour at an exact tie).
+/// ("8.5e-9": the digits of the mantissa at the exponent's scale).
+fn rounds_to(written: &str, value: f64) -> bool {
+    let Ok(w) = written.trim_start_matches('+').parse::<f64>() else {
+        return false;
+    };
+    let (mantissa, exponent) = match written.split_once('e') {
+        Some((m, e)) => (m, e.parse::<i32>().unwrap_or(0)),
+        None => (written, 0),
+    };
+    let digits = mantissa.split('.').nth(1).map_or(0, str::len) as i32;
+    let half = 0.5 * 10f64.powi(exponent - digits);
+    (w - value).abs() <= half * (1.0 + 1e-9) + 1e-12 * half
+}
+
+/// The checks of one file: each failure says where and what.
+struct Checks<'a> {
+    file: &'a str,
+    text: String,
+    failures: Vec<String>,
+}
+
+impl<'a> Checks<'a> {
+    fn of(file: &'a str) -> Self {
+        let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(file))
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        Checks {
+            file,
+            text,
+            failures: Vec::new(),
+        }
+    }
+
+    /// The cells of the table row that starts with `start` (`| case |`), trimmed.
+    fn row(&mut self, start: &str) -> Option<Vec<String>> {
+        let found = self.text.lines().find(|l| l.starts_with(start)).map(|l| {
+            l.trim()
+                .trim_matches('|')
+                .split('|')
+                .map(|c| c.trim().to_string())
+                .collect()
+        });
+        if found.is_none() {
+            self.failures
+                .push(format!("{}: no table row starts with {start:?}", self.file));
+        }
+        found
+    }
+
+    fn expect(&mut self, what: &str, written: &str, value: f64) {
+        if !rounds_to(written, value) {
+            self.failures.push(format!(
+                "{}: {what}: written {written}, the study's table gives {value:.4}",
+                self.file
+            ));
+        }
+    }
+
+    /// A cell "MEAN +- SE ..." against the study's mean and standard error.
+    fn expect_mean_se(&mut self, what: &str, cell: &str, mean: f64, se: f64) {
+        let t: Vec<&str> = cell.split_whitespace().collect();
+        self.expect(&format!("{what} (mean)"), t[0], mean);
+        if t.get(1) == Some(&"+-") {
+            self.expect(&format!("{what} (standard error)"), t[2], se);
+        } else {
+            self.failures.push(format!(
+                "{}: {what}: {cell:?} has no standard error",
+                self.file
+            ));
+        }
+    }
+
+    /// The three numbers of "+A / +B / +C %" (or "A / B / C cm", up to `unit`) written right
+    /// after `lead`, one per case.
+    fn after(&mut self, lead: &str, unit: &str) -> Vec<String> {
+        // (the prose as one line: a sentence may wrap anywhere)
+        let flat = self.text.split_whitespace().collect::<Vec<_>>().join(" ");
+        let Some(i) = flat.find(lead) else {
+            self.failures
+                .push(format!("{}: no sentence with {lead:?}", self.file));
+            return Vec::new();
+        };
+        let rest = &flat[i + lead.len()..];
+        let end = rest.find(unit).unwrap_or(rest.len());
+        let numbers: Vec<String> = rest[..end]
+            .split('/')
+            .map(|s| s.split_whitespace().collect::<String>())
+            .collect();
+        if numbers.len() != D0_M.len() {
+            self.failures.push(format!(
+                "{}: after {lead:?}: {} numbers, not one per case",
+                self.file,
+                numbers.len()
+            ));
+        }
+        numbers
+    }
+
+    /// The first `n` words of the prose right after `lead`.
+    fn words_after(&mut self, lead: &str, n: usize) -> Vec<String> {
+        let flat = self.text.split_whitespace().collect::<Vec<_>>().join(" ");
+        match flat.find(lead) {
+            Some(i) => flat[i + lead.len()..]
+                .split_whitespace()
+                .take(n)
+                .map(|w| w.trim_end_matches([',', ';', ')']).to_string())
+                .collect(),
+            None => {
+                self.failures
+                    .push(format!("{}: no sentence with {lead:?}", self.file));
+                vec![String::new(); n]
+            }
+        }
+    }
+
+    fn finish(self) -> Vec<String> {
+        self.failures
+    }
+}
+
+/// Cells written "A / B / C unit" split into their parts, the unit dropped.
+fn parts(cell: &str) -> Vec<String> {
+    cell.trim_end_matches(" cm")
+        .split(" / ")
+        .map(|s| s.trim().to_string())
+        .collect()
+}
+
+fn pct(ratio: f64) -> f64 {
+    (ratio - 1.0) * 100.0
+}
+
+/// docs/ripple.md, "Checks against the ripple predictors": the two tables and the percentages
+/// of the paragraph after them; and the error study's wavelengths against the bin (`e`,
+/// `ripple_error_vs_time`: chart 0, series 2, bins of 2.5 / 5 / 10 mm in its rows' order).
+fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
+    let mut c = Checks::of("docs/ripple.md");
+    for &d50 in &D50_MM {
+        let (sw_l, sw_h) = soulsby_whitehouse(d50 * 1e-3);
+        for (t, series) in [(300, 0), (1800, 2)] {
+            let case = format!("current, d50 = {d50} mm, {t} s");
+            let Some(r) = c.row(&format!("| current 0.5 m/s, d50 = {d50} mm, {t} s |")) else {
+                continue;
+            };
+            if !r[1].starts_with("no ripples") {
+                let (m, e) = (s.mean(0, series, d50), s.se(0, series, d50));
+                c.expect_mean_se(&format!("{case}, wavelength"), &r[1], m, e);
+            }
+            let first = |cell: &str| cell.split_whitespace().next().unwrap_or("").to_string();
+            c.expect(
+                &format!("{case}, predicted wavelength"),
+                &first(&r[2]),
+                sw_l * 100.0,
+            );
+            let (m, e) = (s.mean(1, series, d50), s.se(1, series, d50));
+            c.expect_mean_se(&format!("{case}, height"), &r[3], m, e);
+            c.expect(
+                &format!("{case}, predicted height"),
+                &first(&r[4]),
+                sw_h * 100.0,
+            );
+            if t == 1800 {
+                let (m, e) = (s.mean(4, 0, d50), s.se(4, 0, d50));
+                c.expect_mean_se(&format!("{case}, ripple index"), &r[5], m, e);
+                let (m, e) = (s.mean(4, 2, d50), s.se(4, 2, d50));
+                c.expect_mean_se(&format!("{case}, symmetry index"), &r[6], m, e);
+            }
+        }
+    }
+    for &d0 in &D0_M {
+        let x = d0 * 100.0;
+        let (wh_l, wh_h, _) = wiberg_harris(d0, WAVE_D50_M);
+        for (t, series) in [("16,000", 0), ("32,000", 2)] {
+            let case = format!("waves, d0 = {d0} m, {t} s");
+            let Some(r) = c.row(&format!("| waves, d50 = 0.3 mm, d0 = {d0} m, {t} s |")) else {
+                continue;
+            };
+            let (m, e) = (s.mean(2, series, x), s.se(2, series, x));
+            c.expect_mean_se(&format!("{case}, wavelength"), &r[1], m, e);
+            let first = |cell: &str| cell.split_whitespace().next().unwrap_or("").to_string();
+            c.expect(
+                &format!("{case}, predicted wavelength"),
+                &first(&r[2]),
+                wh_l * 100.0,
+            );
+            c.expect(
+                &format!("{case}, predicted height"),
+                &first(&r[4]),
+                wh_h * 100.0,
+            );
+            if series == 2 {
+                let ri = s.mean(5, 0, x);
+                c.expect(&format!("{case}, height"), &r[3], s.mean(2, 2, x) / ri);
+                c.expect_mean_se(&format!("{case}, ripple index"), &r[5], ri, s.se(5, 0, x));
+                let (m, e) = (s.mean(5, 2, x), s.se(5, 2, x));
+                c.expect_mean_se(&format!("{case}, symmetry index"), &r[6], m, e);
+            }
+        }
+    }
+    for (start, series) in [
+        ("| crest normal, grid frame, 64 x 64 cm (deg) |", 0),
+        (
+            "| crest normal, flow frame (default), 96 x 24 cm (deg) |",
+            2,
+        ),
+    ] {
+        let Some(r) = c.row(start) else { continue };
+        if r.len() != 14 {
+            c.failures.push(format!(
+                "docs/ripple.md: {start} has {} cells, not 14",
+                r.len()
+            ));
+            continue;
+        }
+        for (k, cell) in r[1..].iter().enumerate() {
+            let angle = 15.0 * k as f64;
+            let what = format!("{} at {angle} deg", r[0]);
+            c.expect(&what, cell, s.mean(3, series, angle));
+        }
+    }
+    let waves = |series: usize| -> Vec<f64> {
+        D0_M.iter()
+            .map(|&d0| s.mean(2, series, d0 * 100.0))
+            .collect()
+    };
+    let (w16, w32) = (waves(0), waves(2));
+    for (k, written) in c
+        .after("but slower than 0.62 d0 (", "%")
+        .into_iter()
+        .chain(c.after("for d0 = 0.2 / 0.3 / 0.4 m after 32,000 s (", "%"))
+        .enumerate()
+    {
+        let k = k % 3;
+        let predicted = wiberg_harris(D0_M[k], WAVE_D50_M).0 * 100.0;
+        let what = format!(
+            "32,000 s wave wavelength against 0.62 d0, d0 = {} m",
+            D0_M[k]
+        );
+        c.expect(&what, &written, pct(w32[k] / predicted));
+    }
+    for (k, written) in c
+        .after("but slower than 0.62 d0: ", " cm")
+        .into_iter()
+        .enumerate()
+    {
+        let what = format!("32,000 s wave wavelength, d0 = {} m", D0_M[k % 3]);
+        c.expect(&what, &written, w32[k % 3]);
+    }
+    for (k, written) in c
+        .after("the mean wavelength grows by ", "%")
+        .into_iter()
+        .enumerate()
+    {
+        let what = format!(
+            "wave wavelength's growth from 16,000 to 32,000 s, d0 = {} m",
+            D0_M[k]
+        );
+        c.expect(&what, &written, pct(w32[k] / w16[k]));
+    }
+    let bins: Vec<f64> = e.0[&(0, 2)].iter().map(|p| p.1).collect();
+    for (k, written) in c
+        .after("6 seeds) bins of 2.5 / 5 / 10 mm give ", " cm")
+        .into_iter()
+        .enumerate()
+    {
+        let what = format!(
+            "error study, wavelength in bins of {} mm",
+            [2.5, 5.0, 10.0][k % 3]
+        );
+        c.expect(&what, &written, bins.get(k).copied().unwrap_or(f64::NAN));
+    }
+    c.finish()
+}
+
+/// README.md, "Sand ripples against the predictors": the rows the study measures (the
+/// 128,000 s row is from longer runs, and the ripple and symmetry indices at 300 s are not in
+/// the study's table).
+fn readme(s: &Study) -> Vec<String> {
+    let mut c = Checks::of("README.md");
+    for &d50 in &D50_MM {
+        let case = format!("current, d50 {d50} mm");
+        let Some(r) = c.row(&format!(
+            "| current 0.5 m/s, d50 {d50} mm, after 300 s / 1800 s |"
+        )) else {
+            continue;
+        };
+        let (sw_l, sw_h) = soulsby_whitehouse(d50 * 1e-3);
+        for (k, (col, chart)) in [(1, 0), (3, 1)].into_iter().enumerate() {
+            let name = ["wavelength", "height"][k];
+            let p = parts(&r[col]);
+            for (i, series) in [0, 2].into_iter().enumerate() {
+                if p.get(i).is_some_and(|w| w != "none") {
+                    let what = format!("{case}, {name} at {} s", [300, 1800][i]);
+                    c.expect(&what, &p[i], s.mean(chart, series, d50));
+                }
+            }
+        }
+        c.expect(
+            &format!("{case}, predicted wavelength"),
+            &parts(&r[2])[0],
+            sw_l * 100.0,
+        );
+        c.expect(
+            &format!("{case}, predicted height"),
+            &parts(&r[4])[0],
+            sw_h * 100.0,
+        );
+        for (col, series, name) in [(5, 0, "ripple index"), (6, 2, "symmetry index")] {
+            match parts(&r[col]).get(1) {
+                Some(w) => c.expect(
+                    &format!("{case}, {name} at 1800 s"),
+                    w,
+                    s.mean(4, series, d50),
+                ),
+                None => c
+                    .failures
+                    .push(format!("README.md: {case}: no 1800 s {name}")),
+            }
+        }
+    }
+    let start = "| waves, d50 0.3 mm, d0 0.2 / 0.3 / 0.4 m, after 32,000 s (8.9 h) |";
+    if let Some(r) = c.row(start) {
+        let (wl, pred, h, pred_h) = (parts(&r[1]), parts(&r[2]), parts(&r[3]), parts(&r[4]));
+        let mut ri = Vec::new();
+        let mut si = Vec::new();
+        for (k, &d0) in D0_M.iter().enumerate() {
+            let x = d0 * 100.0;
+            let (wh_l, wh_h, _) = wiberg_harris(d0, WAVE_D50_M);
+            let case = format!("waves, d0 = {d0} m");
+            c.expect(&format!("{case}, wavelength"), &wl[k], s.mean(2, 2, x));
+            c.expect(
+                &format!("{case}, predicted wavelength"),
+                &pred[k],
+                wh_l * 100.0,
+            );
+            let height = s.mean(2, 2, x) / s.mean(5, 0, x);
+            c.expect(&format!("{case}, height"), &h[k], height);
+            c.expect(
+                &format!("{case}, predicted height"),
+                &pred_h[k],
+                wh_h * 100.0,
+            );
+            ri.push(s.mean(5, 0, x));
+            si.push(s.mean(5, 2, x));
+        }
+        for (col, values, name) in [(5, ri, "ripple index"), (6, si, "symmetry index")] {
+            let range: Vec<&str> = r[col].split('-').collect();
+            let lo = values.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = values.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            c.expect(&format!("waves, lowest {name}"), range[0], lo);
+            c.expect(
+                &format!("waves, highest {name}"),
+                range.get(1).unwrap_or(&""),
+                hi,
+            );
+        }
+    }
+    c.finish()
+}
+
+/// docs/raytrace.md, "Error against step size and run time": its table is the study's
+/// (`raytrace_error_vs_time`: chart 0 the three errors against ds, chart 1 the same against
+/// the CPU seconds per ray, row for row), with the linear ray's steps over its 30 km.
+fn raytrace_md(t: &Study) -> Vec<String> {
+    let mut c = Checks::of("docs/raytrace.md");
+    let rows = &t.0[&(0, 0)];
+    let cpu = &t.0[&(1, 0)];
+    for (i, &(ds, _)) in rows.iter().enumerate() {
+        let case = format!("ds {ds} m");
+        let Some(r) = c.row(&format!("| {ds} | ")) else {
+            continue;
+        };
+        c.expect(&format!("{case}, steps"), &r[1], (30_000.0 / ds).ceil());
+        for (col, series, name) in [
+            (2, 0, "arc radius error"),
+            (3, 1, "Snell drift, linear"),
+            (4, 2, "Snell drift, Munk"),
+        ] {
+            c.expect(&format!("{case}, {name}"), &r[col], t.mean(0, series, ds));
+        }
+        c.expect(&format!("{case}, CPU us/ray"), &r[5], cpu[i].0 * 1e6);
+    }
+    c.finish()
+}
+
+/// docs/dunes.md, "Error against run time": the means after 12 seeds at 500 iterations
+/// (`dunes_error_vs_time`: charts 2 and 3, the bare fraction and the bodies against iterations,
+/// Q = 1 and Q = 3) and their standard errors (charts 0 and 1 at the longest run time).
+fn dunes_md(t: &Study) -> Vec<String> {
+    let mut c = Checks::of("docs/dunes.md");
+    let last = |chart: usize, series: usize| t.0[&(chart, series)].last().map_or(f64::NAN, |p| p.1);
+    let bare = c.words_after("After 12 seeds the bare fraction is ", 10);
+    let bodies = c.words_after("and the number of bodies ", 7);
+    for (what, written, value) in [
+        ("bare fraction, Q = 1", &bare[0], last(2, 0)),
+        (
+            "bare fraction's standard error, Q = 1",
+            &bare[2],
+            last(0, 0),
+        ),
+        ("bare fraction, Q = 3", &bare[7], last(2, 1)),
+        (
+            "bare fraction's standard error, Q = 3",
+            &bare[9],
+            last(0, 2),
+        ),
+        ("bodies, Q = 1", &bodies[0], last(3, 0)),
+        ("bodies' standard error, Q = 1", &bodies[2], last(1, 0)),
+        ("bodies, Q = 3", &bodies[4], last(3, 1)),
+        ("bodies' standard error, Q = 3", &bodies[6], last(1, 2)),
+    ] {
+        c.expect(what, written, value);
+    }
+    c.finish()
+}
+
+/// docs/windripples.md, the error figure's row: the standard errors of the two wavelengths
+/// after 8 seeds (`windripples_error_vs_time`: chart 1, series 0 the dominant peak, 1 the
+/// spectrum-weighted mean, at the longest run time).
+fn windripples_md(t: &Study) -> Vec<String> {
+    let mut c = Checks::of("docs/windripples.md");
+    let last = |series: usize| t.0[&(1, series)].last().map_or(f64::NAN, |p| p.1);
+    let mean = c.words_after("pinned about 10 times more tightly (", 1);
+    let peak = c.words_after("bins after 8 seeds) than the dominant peak (", 1);
+    c.expect("the mean wavelength's standard error", &mean[0], last(1));
+    c.expect(
+        "the dominant wavelength's standard error",
+        &peak[0],
+        last(0),
+    );
+    c.finish()
+}
+
+#[test]
+fn numbers_the_docs_quote_are_the_study_tables() {
+    let s = Study::load("ripple_validation");
+    let e = Study::load("ripple_error_vs_time");
+    let r = Study::load("raytrace_error_vs_time");
+    let d = Study::load("dunes_error_vs_time");
+    let w = Study::load("windripples_error_vs_time");
+    let failures: Vec<String> = ripple_md(&s, &e)
+        .into_iter()
+        .chain(readme(&s))
+        .chain(raytrace_md(&r))
+        .chain(dunes_md(&d))
+        .chain(windripples_md(&w))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} documented number(s) differ from the study tables in figures/data/ (rerun by \
+         `cellsurf converge STUDY`); update the docs:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn a_written_number_matches_only_its_rounding() {
+    assert!(rounds_to("17.7", 17.688));
+    assert!(rounds_to("+23", 23.06));
+    assert!(rounds_to("151", 151.276));
+    assert!(rounds_to("0.00", 0.0049));
+    assert!(!rounds_to("17.7", 17.64));
+    assert!(!rounds_to("0.97", 0.9649));
+    assert!(!rounds_to("18", 18.6));
+    assert!(!rounds_to("none", 1.0));
+    assert!(rounds_to("8.5e-9", 8.49e-9));
+    assert!(!rounds_to("8.5e-9", 8.44e-9));
+    assert!(rounds_to("9.0e-10", 9.002e-10));
+    assert_eq!(parts("17.7 / 39.1 cm"), ["17.7", "39.1"]);
+}
