@@ -6,7 +6,9 @@
 //! `figures/data/ripple_error_vs_time.csv`, and the ray tracer's error table in
 //! docs/raytrace.md is `figures/data/raytrace_error_vs_time.csv`, and the dunes' means and
 //! standard errors in docs/dunes.md are `figures/data/dunes_error_vs_time.csv`'s, and the wind
-//! ripples' in docs/windripples.md `figures/data/windripples_error_vs_time.csv`'s.
+//! ripples' in docs/windripples.md `figures/data/windripples_error_vs_time.csv`'s. The lit
+//! shares that docs/raytrace.md quotes from Fig. 5's panel titles are recomputed as the figure
+//! computes them.
 //!
 //! A rerun of the study that moves a mean, a standard error or a percentage derived from them
 //! fails here, naming the file, the row and both numbers, until the docs follow. A written
@@ -15,6 +17,8 @@
 use std::collections::HashMap;
 use std::path::Path;
 
+use cellsurf::raytrace::figures::fig5_runs;
+use cellsurf::raytrace::{Tracer, insonify};
 use cellsurf::ripple::predictors::{soulsby_whitehouse, wiberg_harris};
 
 /// The grain sizes of the current cases, mm (the x of the current charts).
@@ -134,7 +138,7 @@ impl<'a> Checks<'a> {
     fn expect(&mut self, what: &str, written: &str, value: f64) {
         if !rounds_to(written, value) {
             self.failures.push(format!(
-                "{}: {what}: written {written}, the study's table gives {value:.4}",
+                "{}: {what}: written {written}, its source gives {value:.4}",
                 self.file
             ));
         }
@@ -515,8 +519,78 @@ fn windripples_md(t: &Study) -> Vec<String> {
     c.finish()
 }
 
+/// docs/raytrace.md, "Fig. 5": the lit shares that the figure prints in its panel titles (the
+/// floor beyond 5 m, and the tile at 40-40.64 m), computed as the figure computes them from its
+/// scenarios ([`fig5_runs`]): isovelocity, the thermocline, the table with the inversion.
+fn raytrace_fig5_md() -> Vec<String> {
+    let mut c = Checks::of("docs/raytrace.md");
+    let runs = fig5_runs().expect("the Fig. 5 scenarios");
+    let floor = runs[0].floor().expect("the Fig. 5 floor");
+    let xs = floor.xs();
+    let beyond = xs.partition_point(|&x| x < 5.0)..xs.partition_point(|&x| x <= floor.x_range().1);
+    let tile = xs.partition_point(|&x| x < 40.0)..xs.partition_point(|&x| x <= 40.64);
+    let shares: Vec<(f64, f64)> = runs
+        .iter()
+        .map(|r| {
+            let t = Tracer::new(&r.profile, &floor).expect("a tracer");
+            let ins = insonify(&t, &r.fan(), &r.options(&floor)).expect("the fan");
+            (
+                100.0 * ins.lit_fraction(beyond.clone()),
+                100.0 * ins.lit_fraction(tile.clone()),
+            )
+        })
+        .collect();
+    assert_eq!(shares.len(), 3, "Fig. 5 has three rows");
+    let iso = c.words_after("Isovelocity insonifies ", 1);
+    let iso_tile = c.words_after("far out only the stoss faces (", 1);
+    let thermo = c.words_after("nothing beyond 35 m is reached (", 3);
+    let inversion = c.words_after("m in shadow (", 3);
+    let none = |w: &str| {
+        if w == "none" {
+            "0".to_string()
+        } else {
+            w.to_string()
+        }
+    };
+    for (what, written, value) in [
+        (
+            "isovelocity, the floor beyond 5 m",
+            iso[0].clone(),
+            shares[0].0,
+        ),
+        (
+            "isovelocity, the tile at 40 m",
+            iso_tile[0].clone(),
+            shares[0].1,
+        ),
+        (
+            "thermocline, the floor beyond 5 m",
+            thermo[0].clone(),
+            shares[1].0,
+        ),
+        (
+            "thermocline, the tile at 40 m",
+            none(&thermo[2]),
+            shares[1].1,
+        ),
+        (
+            "inversion, the floor beyond 5 m",
+            inversion[0].clone(),
+            shares[2].0,
+        ),
+        (
+            "inversion, the tile at 40 m",
+            none(&inversion[2]),
+            shares[2].1,
+        ),
+    ] {
+        c.expect(&format!("Fig. 5, {what} (%)"), &written, value);
+    }
+    c.finish()
+}
+
 #[test]
-fn numbers_the_docs_quote_are_the_study_tables() {
+fn numbers_the_docs_quote_are_their_sources() {
     let s = Study::load("ripple_validation");
     let e = Study::load("ripple_error_vs_time");
     let r = Study::load("raytrace_error_vs_time");
@@ -528,11 +602,12 @@ fn numbers_the_docs_quote_are_the_study_tables() {
         .chain(raytrace_md(&r))
         .chain(dunes_md(&d))
         .chain(windripples_md(&w))
+        .chain(raytrace_fig5_md())
         .collect();
     assert!(
         failures.is_empty(),
-        "{} documented number(s) differ from the study tables in figures/data/ (rerun by \
-         `cellsurf converge STUDY`); update the docs:\n{}",
+        "{} documented number(s) differ from their source, a study table in figures/data/ \
+         (rerun by `cellsurf converge STUDY`), a predictor or Fig. 5; update the docs:\n{}",
         failures.len(),
         failures.join("\n")
     );
