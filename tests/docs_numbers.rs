@@ -27,6 +27,9 @@ const D50_MM: [f64; 3] = [0.1, 0.2, 0.4];
 const D0_M: [f64; 3] = [0.2, 0.3, 0.4];
 /// The wave cases' grain size, m.
 const WAVE_D50_M: f64 = 0.3e-3;
+/// A case may be written as having no ripples ("none", "no ripples yet") only where the study's
+/// mean height is below this, cm: the initial roughness (0.16 cm), not a ripple.
+const NO_RIPPLES_BELOW_CM: f64 = 0.25;
 
 /// The study's points: `(chart, series)` to the `(x, y)` of its rows, in order.
 struct Study(HashMap<(usize, usize), Vec<(f64, f64)>>);
@@ -98,7 +101,7 @@ fn rounds_to(written: &str, value: f64) -> bool {
     };
     let digits = mantissa.split('.').nth(1).map_or(0, str::len) as i32;
     let half = 0.5 * 10f64.powi(exponent - digits);
-    (w - value).abs() <= half * (1.0 + 1e-9) + 1e-12 * half
+    (w - value).abs() <= half * (1.0 + 1e-9)
 }
 
 /// The checks of one file: each failure says where and what.
@@ -137,8 +140,24 @@ impl<'a> Checks<'a> {
 
     fn expect(&mut self, what: &str, written: &str, value: f64) {
         if !rounds_to(written, value) {
+            let source = if value.abs() >= 0.01 {
+                format!("{value:.4}")
+            } else {
+                format!("{value:.3e}")
+            };
             self.failures.push(format!(
-                "{}: {what}: written {written}, its source gives {value:.4}",
+                "{}: {what}: written {written}, its source gives {source}",
+                self.file
+            ));
+        }
+    }
+
+    /// A case written as having no ripples: the study's mean height `height_cm` must be below
+    /// [`NO_RIPPLES_BELOW_CM`].
+    fn expect_no_ripples(&mut self, what: &str, height_cm: f64) {
+        if height_cm >= NO_RIPPLES_BELOW_CM {
+            self.failures.push(format!(
+                "{}: {what}: written as no ripples, but the study's height is {height_cm:.2} cm",
                 self.file
             ));
         }
@@ -230,7 +249,9 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
             let Some(r) = c.row(&format!("| current 0.5 m/s, d50 = {d50} mm, {t} s |")) else {
                 continue;
             };
-            if !r[1].starts_with("no ripples") {
+            if r[1].starts_with("no ripples") {
+                c.expect_no_ripples(&case, s.mean(1, series, d50));
+            } else {
                 let (m, e) = (s.mean(0, series, d50), s.se(0, series, d50));
                 c.expect_mean_se(&format!("{case}, wavelength"), &r[1], m, e);
             }
@@ -345,6 +366,81 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
         );
         c.expect(&what, &written, pct(w32[k] / w16[k]));
     }
+    // the prose around the tables
+    let ri = |x: f64| s.mean(5, 0, x);
+    let si = |x: f64| s.mean(5, 2, x);
+    let weak = c.words_after("The trend with grain size is weak: ", 3);
+    let sw = c.words_after("mm against the predictor's ", 3);
+    for (k, &d50) in D50_MM[..2].iter().enumerate() {
+        let what = format!("current, d50 = {d50} mm, 300 s");
+        c.expect(
+            &format!("{what}, wavelength"),
+            &weak[2 * k],
+            s.mean(0, 0, d50),
+        );
+        let predicted = soulsby_whitehouse(d50 * 1e-3).0 * 100.0;
+        c.expect(
+            &format!("{what}, predicted wavelength"),
+            &sw[2 * k],
+            predicted,
+        );
+    }
+    let (wl, wh, _) = wiberg_harris(0.4, WAVE_D50_M);
+    let three = c.words_after("meet the first three (", 5);
+    c.expect(
+        "waves, d0 = 0.4 m, wavelength against 0.62 d0 (%)",
+        &three[0],
+        pct(w32[2] / (wl * 100.0)),
+    );
+    let height = w32[2] / ri(40.0);
+    c.expect(
+        "waves, d0 = 0.4 m, height against W&H (%)",
+        &three[2],
+        pct(height / (wh * 100.0)),
+    );
+    c.expect("waves, d0 = 0.4 m, ripple index", &three[4], ri(40.0));
+    let range = |c: &mut Checks, what: &str, written: &str, values: &[f64]| {
+        let w: Vec<&str> = written.trim_end_matches(',').split('-').collect();
+        let lo = values.iter().cloned().fold(f64::INFINITY, f64::min);
+        let hi = values.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        c.expect(&format!("{what}, lowest"), w[0], lo);
+        c.expect(&format!("{what}, highest"), w.get(1).unwrap_or(&""), hi);
+    };
+    let xs: Vec<f64> = D0_M.iter().map(|d0| d0 * 100.0).collect();
+    let sym = c.words_after("observed symmetry (", 1);
+    range(
+        &mut c,
+        "waves, symmetry index",
+        &sym[0],
+        &xs.iter().map(|&x| si(x)).collect::<Vec<_>>(),
+    );
+    let steep = c.words_after("steepness (ripple index ", 2);
+    range(
+        &mut c,
+        "waves, ripple index",
+        &steep[0],
+        &xs.iter().map(|&x| ri(x)).collect::<Vec<_>>(),
+    );
+    let predicted_ri = 100.0 * wl / (wh * 100.0);
+    c.expect("waves, W&H ripple index", &steep[1], predicted_ri);
+    let grows = c.words_after("hours of waves (by ", 1);
+    let growth: Vec<f64> = (0..3).map(|k| pct(w32[k] / w16[k])).collect();
+    range(
+        &mut c,
+        "waves, growth from 16,000 to 32,000 s (%)",
+        &grows[0],
+        &growth,
+    );
+    let study = c.words_after("the period exactly `pi d0 / U_w`): ", 11);
+    for (k, &x) in xs.iter().enumerate() {
+        let what = format!("waves, d0 = {} m, 32,000 s, the study's", D0_M[k]);
+        c.expect(&format!("{what} wavelength"), &study[4 * k], w32[k]);
+        c.expect(
+            &format!("{what} standard error"),
+            &study[4 * k + 2],
+            s.se(2, 2, x),
+        );
+    }
     let bins: Vec<f64> = e.0[&(0, 2)].iter().map(|p| p.1).collect();
     for (k, written) in c
         .after("6 seeds) bins of 2.5 / 5 / 10 mm give ", " cm")
@@ -376,9 +472,18 @@ fn readme(s: &Study) -> Vec<String> {
         for (k, (col, chart)) in [(1, 0), (3, 1)].into_iter().enumerate() {
             let name = ["wavelength", "height"][k];
             let p = parts(&r[col]);
+            if p.len() != 2 {
+                c.failures.push(format!(
+                    "README.md: {case}, {name}: {:?} is not 'A / B'",
+                    r[col]
+                ));
+                continue;
+            }
             for (i, series) in [0, 2].into_iter().enumerate() {
-                if p.get(i).is_some_and(|w| w != "none") {
-                    let what = format!("{case}, {name} at {} s", [300, 1800][i]);
+                let what = format!("{case}, {name} at {} s", [300, 1800][i]);
+                if p[i] == "none" {
+                    c.expect_no_ripples(&what, s.mean(1, series, d50));
+                } else {
                     c.expect(&what, &p[i], s.mean(chart, series, d50));
                 }
             }
@@ -447,26 +552,61 @@ fn readme(s: &Study) -> Vec<String> {
 }
 
 /// docs/raytrace.md, "Error against step size and run time": its table is the study's
-/// (`raytrace_error_vs_time`: chart 0 the three errors against ds, chart 1 the same against
-/// the CPU seconds per ray, row for row), with the linear ray's steps over its 30 km.
+/// (`raytrace_error_vs_time`: chart 0 the three errors against ds, chart 1 the same errors
+/// against the CPU seconds per ray), one row per step size of the study, with the linear ray's
+/// steps over its 30 km.
 fn raytrace_md(t: &Study) -> Vec<String> {
     let mut c = Checks::of("docs/raytrace.md");
-    let rows = &t.0[&(0, 0)];
-    let cpu = &t.0[&(1, 0)];
-    for (i, &(ds, _)) in rows.iter().enumerate() {
-        let case = format!("ds {ds} m");
-        let Some(r) = c.row(&format!("| {ds} | ")) else {
+    let header = "| ds (m) | steps | arc radius error |";
+    let lines: Vec<String> = c
+        .text
+        .lines()
+        .skip_while(|l| !l.starts_with(header))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .map(str::to_string)
+        .collect();
+    let studied = &t.0[&(0, 0)];
+    if lines.len() != studied.len() {
+        c.failures.push(format!(
+            "docs/raytrace.md: the error table has {} rows, the study {} step sizes",
+            lines.len(),
+            studied.len()
+        ));
+    }
+    for line in lines {
+        let r: Vec<&str> = line
+            .trim()
+            .trim_matches('|')
+            .split('|')
+            .map(str::trim)
+            .collect();
+        let Some(ds) = r[0]
+            .parse::<f64>()
+            .ok()
+            .filter(|ds| studied.iter().any(|p| p.0 == *ds))
+        else {
+            c.failures.push(format!(
+                "docs/raytrace.md: {line:?}: not a step size of the study"
+            ));
             continue;
         };
-        c.expect(&format!("{case}, steps"), &r[1], (30_000.0 / ds).ceil());
+        let case = format!("ds {ds} m");
+        c.expect(&format!("{case}, steps"), r[1], (30_000.0 / ds).ceil());
         for (col, series, name) in [
             (2, 0, "arc radius error"),
             (3, 1, "Snell drift, linear"),
             (4, 2, "Snell drift, Munk"),
         ] {
-            c.expect(&format!("{case}, {name}"), &r[col], t.mean(0, series, ds));
+            c.expect(&format!("{case}, {name}"), r[col], t.mean(0, series, ds));
         }
-        c.expect(&format!("{case}, CPU us/ray"), &r[5], cpu[i].0 * 1e6);
+        // the CPU time is the x of chart 1's point with this step size's error
+        let error = t.mean(0, 0, ds);
+        let cpu = t.0[&(1, 0)]
+            .iter()
+            .find(|p| p.1 == error)
+            .map_or(f64::NAN, |p| p.0);
+        c.expect(&format!("{case}, CPU us/ray"), r[5], cpu * 1e6);
     }
     c.finish()
 }
