@@ -1271,6 +1271,7 @@ pub fn run(a: Args) -> Result<()> {
             "hops": s.hops,
             "avalanches": s.avalanches,
             "creeps": s.creeps,
+            "suspended": s.suspended,
             "bytes_per_automaton": r.bytes_per_automaton(),
         });
         let record = serde_json::json!({

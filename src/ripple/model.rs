@@ -37,6 +37,8 @@ pub struct RippleStats {
     pub avalanches: u64,
     /// Creep moves.
     pub creeps: u64,
+    /// Grains shed into suspension from a crest and settled elsewhere (`crest_suspension`).
+    pub suspended: u64,
 }
 
 /// A sand-ripple run.

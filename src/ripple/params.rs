@@ -219,6 +219,16 @@ pub struct RippleParams {
     /// Default false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub hop_exponential: bool,
+    /// Crest suspension (opt-in), m: a grain that the flow moves from a column whose top lies
+    /// `zeta` metres above the bed's mean level goes into suspension with probability
+    /// `min(1, (zeta / crest_suspension)^2)` and settles on a column drawn uniformly from the
+    /// whole volume, instead of rolling. Our reading of the sand that a crest sheds into the
+    /// flow above the ripples and that settles further away than a ripple's length: the
+    /// higher a crest, the more it sheds, so sand passes from the highest ripples to all the
+    /// others. A length chosen by the user, not derived from the grain or the flow. 0..=1
+    /// (0: off). Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub crest_suspension: f64,
     /// Bed drag coefficient C_D of tau = rho_w C_D u^2 (Soulsby 1997), > 0. Default 0.0025.
     pub drag_coefficient: f64,
     /// Water slices: slice thickness, in automata (layers), >= 1. Default 2.
@@ -273,6 +283,7 @@ impl Default for RippleParams {
             friction: 0.6,
             hop_length: 1.5,
             hop_grains: 0.0,
+            crest_suspension: 0.0,
             hop_exponential: false,
             drag_coefficient: 0.0025,
             slice_layers: 2,
@@ -762,6 +773,14 @@ impl RippleParams {
         check_f("hop_length", self.hop_length, 0.0, 1e4, true, false)?;
         check_f("hop_grains", self.hop_grains, 0.0, 1e5, false, false)?;
         check_f(
+            "crest_suspension",
+            self.crest_suspension,
+            0.0,
+            1.0,
+            false,
+            false,
+        )?;
+        check_f(
             "drag_coefficient",
             self.drag_coefficient,
             0.0,
@@ -853,6 +872,15 @@ mod tests {
         for (e, key) in [
             (bad(|p| p.hop_grains = -1.0), "hop_grains = -1"),
             (bad(|p| p.hop_grains = f64::NAN), "hop_grains = NaN"),
+            (
+                bad(|p| p.crest_suspension = -0.01),
+                "crest_suspension = -0.01",
+            ),
+            (bad(|p| p.crest_suspension = 2.0), "crest_suspension = 2"),
+            (
+                bad(|p| p.crest_suspension = f64::INFINITY),
+                "crest_suspension = inf",
+            ),
             (bad(|p| p.wave_vortex = -0.1), "wave_vortex = -0.1"),
             (bad(|p| p.vortex_strength = 1.5), "vortex_strength = 1.5"),
         ] {

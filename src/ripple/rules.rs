@@ -250,12 +250,42 @@ impl Ripple {
         if budget <= 0.0 {
             return false;
         }
+        if self.p.crest_suspension > 0.0 && self.suspend(c) {
+            return true;
+        }
         if self.p.hop_exponential {
             budget *= self.rng.sample::<f64, _>(rand_distr::Exp1);
         }
         if !self.roll(c, k, budget, flow) {
             self.creep(c, k);
         }
+        true
+    }
+
+    /// Crest suspension (`crest_suspension`, opt-in): the grain on top of `c`, which the flow
+    /// moves, goes into suspension with probability `min(1, (zeta / L)^2)`, `zeta` the height
+    /// of the column's top above the bed's mean level (the automata per column, constant as
+    /// the mass is), and settles on a column drawn uniformly from the whole volume. True when
+    /// it did (the grain has moved); false leaves it to roll.
+    fn suspend(&mut self, c: usize) -> bool {
+        let columns = self.vol.columns();
+        let mean = self.automata as f64 / columns as f64;
+        let zeta = (self.vol.height(c) as f64 - mean) * self.p.layer_thickness;
+        if zeta <= 0.0 {
+            return false;
+        }
+        let p = (zeta / self.p.crest_suspension).powi(2);
+        if self.rng.random::<f64>() >= p {
+            return false;
+        }
+        let to = self.rng.random_range(0..columns);
+        if to == c || self.vol.is_full(to) {
+            return false;
+        }
+        let a = self.vol.pop(c).expect("an exposed grain");
+        self.deposit(to, a, Deposit::Rolled);
+        self.stats.suspended += 1;
+        self.relax(&[c as u32], &[to as u32]);
         true
     }
 
