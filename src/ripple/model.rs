@@ -37,7 +37,8 @@ pub struct RippleStats {
     pub avalanches: u64,
     /// Creep moves.
     pub creeps: u64,
-    /// Grains shed into suspension from a crest and settled elsewhere (`crest_suspension`).
+    /// Grains that the flow moved from a crest and that settled elsewhere, suspended
+    /// (`crest_suspension`); not counted in `rolls`.
     pub suspended: u64,
 }
 

@@ -250,9 +250,6 @@ impl Ripple {
         if budget <= 0.0 {
             return false;
         }
-        if self.p.crest_suspension > 0.0 && self.suspend(c) {
-            return true;
-        }
         if self.p.hop_exponential {
             budget *= self.rng.sample::<f64, _>(rand_distr::Exp1);
         }
@@ -262,31 +259,34 @@ impl Ripple {
         true
     }
 
-    /// Crest suspension (`crest_suspension`, opt-in): the grain on top of `c`, which the flow
-    /// moves, goes into suspension with probability `min(1, (zeta / L)^2)`, `zeta` the height
-    /// of the column's top above the bed's mean level (the automata per column, constant as
-    /// the mass is), and settles on a column drawn uniformly from the whole volume. True when
-    /// it did (the grain has moved); false leaves it to roll.
-    fn suspend(&mut self, c: usize) -> bool {
+    /// Crest suspension (`crest_suspension`, opt-in): where a grain that the flow has just moved
+    /// (at least one hop, not in the lee vortex) from a column whose top stood at
+    /// `start_level` automata settles instead of where it rolled. With probability
+    /// `min(1, (zeta / L)^2)`, `zeta` the height of that top above the bed's mean level (the
+    /// automata per column, constant as the mass is), it was suspended and settles on a column
+    /// drawn uniformly from the whole volume (upstream or downstream, the grain's own column
+    /// included; a full column leaves it where it rolled), with a rolled grain's porosity.
+    /// `None`: it rolled. No random draw when the rule is off or `zeta` is not above 0.
+    fn suspension_landing(&mut self, start_level: usize, vortex: bool) -> Option<usize> {
+        if vortex || self.p.crest_suspension <= 0.0 {
+            return None;
+        }
         let columns = self.vol.columns();
         let mean = self.automata as f64 / columns as f64;
-        let zeta = (self.vol.height(c) as f64 - mean) * self.p.layer_thickness;
+        let zeta = (start_level as f64 - mean) * self.p.layer_thickness;
         if zeta <= 0.0 {
-            return false;
+            return None;
         }
         let p = (zeta / self.p.crest_suspension).powi(2);
         if self.rng.random::<f64>() >= p {
-            return false;
+            return None;
         }
         let to = self.rng.random_range(0..columns);
-        if to == c || self.vol.is_full(to) {
-            return false;
+        if self.vol.is_full(to) {
+            return None;
         }
-        let a = self.vol.pop(c).expect("an exposed grain");
-        self.deposit(to, a, Deposit::Rolled);
         self.stats.suspended += 1;
-        self.relax(&[c as u32], &[to as u32]);
-        true
+        Some(to)
     }
 
     /// Whether a candidate costing `cost` replaces the best so far (`best`, `None` before the
@@ -409,9 +409,16 @@ impl Ripple {
             self.vol.push(c, a);
             return false;
         }
+        // Crest suspension (opt-in): a grain that the flow has moved may settle elsewhere.
+        let p = match self.suspension_landing(start_level, vortex) {
+            Some(to) => to,
+            None => {
+                self.stats.rolls += 1;
+                self.stats.hops += hops as u64;
+                p
+            }
+        };
         self.deposit(p, a, Deposit::Rolled);
-        self.stats.rolls += 1;
-        self.stats.hops += hops as u64;
         self.relax(&[c as u32], &[p as u32]);
         true
     }
