@@ -565,6 +565,15 @@ fn scene_files_reject_unknown_keys_and_take_defaults() {
         std::fs::read_to_string(format!("{dir}/tests/fixtures/ripple_bad_alpha.toml")).unwrap();
     let e = RippleParams::from_toml(&bad).unwrap_err().to_string();
     assert!(e.contains("avalanche_angle"), "{e}");
+    let bad = std::fs::read_to_string(format!(
+        "{dir}/tests/fixtures/ripple_bad_crest_suspension.toml"
+    ))
+    .unwrap();
+    let e = RippleParams::from_toml(&bad).unwrap_err().to_string();
+    assert!(
+        e.starts_with("crest_suspension = 1.5 is out of range") && e.contains("[0, 1]"),
+        "{e}"
+    );
     let fig3 =
         std::fs::read_to_string(format!("{dir}/scenarios/ripple_fig3_evolution.toml")).unwrap();
     RippleParams::from_toml(&fig3).unwrap();

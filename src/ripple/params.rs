@@ -219,14 +219,14 @@ pub struct RippleParams {
     /// Default false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub hop_exponential: bool,
-    /// Crest suspension (opt-in), m: a grain that the flow moves from a column whose top lies
-    /// `zeta` metres above the bed's mean level goes into suspension with probability
-    /// `min(1, (zeta / crest_suspension)^2)` and settles on a column drawn uniformly from the
-    /// whole volume, instead of rolling. Our reading of the sand that a crest sheds into the
-    /// flow above the ripples and that settles further away than a ripple's length: the
-    /// higher a crest, the more it sheds, so sand passes from the highest ripples to all the
-    /// others. A length chosen by the user, not derived from the grain or the flow. 0..=1
-    /// (0: off). Left out of files when 0. Default 0.
+    /// Crest suspension (opt-in), m: a grain that the flow has moved (at least one hop,
+    /// outside the lee vortex) from a column whose top stood `zeta` metres above the bed's
+    /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^2)`, and
+    /// settles on a column drawn uniformly from the whole volume instead of where it rolled.
+    /// Our reading of the sand that a crest sheds into the flow above the ripples, which
+    /// settles over many ripple lengths: the higher a crest, the more it sheds, so sand passes
+    /// from the highest ripples to all the others. A length chosen by the user, not derived
+    /// from the grain or the flow. 0..=1 (0: off). Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub crest_suspension: f64,
     /// Bed drag coefficient C_D of tau = rho_w C_D u^2 (Soulsby 1997), > 0. Default 0.0025.
