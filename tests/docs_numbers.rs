@@ -108,6 +108,8 @@ fn rounds_to(written: &str, value: f64) -> bool {
 struct Checks<'a> {
     file: &'a str,
     text: String,
+    /// The text as one line of single spaces: a sentence may wrap anywhere.
+    flat: String,
     failures: Vec<String>,
 }
 
@@ -115,9 +117,11 @@ impl<'a> Checks<'a> {
     fn of(file: &'a str) -> Self {
         let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(file))
             .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let flat = text.split_whitespace().collect::<Vec<_>>().join(" ");
         Checks {
             file,
             text,
+            flat,
             failures: Vec::new(),
         }
     }
@@ -177,11 +181,10 @@ impl<'a> Checks<'a> {
         }
     }
 
-    /// The three numbers of "+A / +B / +C %" (or "A / B / C cm", up to `unit`) written right
-    /// after `lead`, one per case.
-    fn after(&mut self, lead: &str, unit: &str) -> Vec<String> {
-        // (the prose as one line: a sentence may wrap anywhere)
-        let flat = self.text.split_whitespace().collect::<Vec<_>>().join(" ");
+    /// The `n` numbers of "+A / +B / +C %" (or "A / B / C cm", up to `unit`) written right
+    /// after `lead`.
+    fn after(&mut self, lead: &str, unit: &str, n: usize) -> Vec<String> {
+        let flat = &self.flat;
         let Some(i) = flat.find(lead) else {
             self.failures
                 .push(format!("{}: no sentence with {lead:?}", self.file));
@@ -193,9 +196,9 @@ impl<'a> Checks<'a> {
             .split('/')
             .map(|s| s.split_whitespace().collect::<String>())
             .collect();
-        if numbers.len() != D0_M.len() {
+        if numbers.len() != n {
             self.failures.push(format!(
-                "{}: after {lead:?}: {} numbers, not one per case",
+                "{}: after {lead:?}: {} numbers, not {n}",
                 self.file,
                 numbers.len()
             ));
@@ -205,9 +208,8 @@ impl<'a> Checks<'a> {
 
     /// The first `n` words of the prose right after `lead`.
     fn words_after(&mut self, lead: &str, n: usize) -> Vec<String> {
-        let flat = self.text.split_whitespace().collect::<Vec<_>>().join(" ");
-        match flat.find(lead) {
-            Some(i) => flat[i + lead.len()..]
+        match self.flat.find(lead) {
+            Some(i) => self.flat[i + lead.len()..]
                 .split_whitespace()
                 .take(n)
                 .map(|w| w.trim_end_matches([',', ';', ')']).to_string())
@@ -334,9 +336,9 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
     };
     let (w16, w32) = (waves(0), waves(2));
     for (k, written) in c
-        .after("but slower than 0.62 d0 (", "%")
+        .after("but slower than 0.62 d0 (", "%", 3)
         .into_iter()
-        .chain(c.after("for d0 = 0.2 / 0.3 / 0.4 m after 32,000 s (", "%"))
+        .chain(c.after("for d0 = 0.2 / 0.3 / 0.4 m after 32,000 s (", "%", 3))
         .enumerate()
     {
         let k = k % 3;
@@ -348,7 +350,7 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
         c.expect(&what, &written, pct(w32[k] / predicted));
     }
     for (k, written) in c
-        .after("but slower than 0.62 d0: ", " cm")
+        .after("but slower than 0.62 d0: ", " cm", 3)
         .into_iter()
         .enumerate()
     {
@@ -356,7 +358,7 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
         c.expect(&what, &written, w32[k % 3]);
     }
     for (k, written) in c
-        .after("the mean wavelength grows by ", "%")
+        .after("the mean wavelength grows by ", "%", 3)
         .into_iter()
         .enumerate()
     {
@@ -443,7 +445,7 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
     }
     let bins: Vec<f64> = e.0[&(0, 2)].iter().map(|p| p.1).collect();
     for (k, written) in c
-        .after("6 seeds) bins of 2.5 / 5 / 10 mm give ", " cm")
+        .after("6 seeds) bins of 2.5 / 5 / 10 mm give ", " cm", 3)
         .into_iter()
         .enumerate()
     {
