@@ -697,6 +697,37 @@ fn netcdf_round_trip_gives_back_what_the_run_computed() {
 }
 
 #[test]
+fn netcdf_round_trip_keeps_every_opt_in_key() {
+    // The keys left out of files at their defaults are written when set and must be read
+    // back: every one of them away from its default at once.
+    let p = RippleParams {
+        steps: 4,
+        until: Some("equilibrium".into()),
+        wave_period: 200.0,
+        wave_amplitude: 0.2,
+        wave_friction_factor: 0.01,
+        wave_angle: Some(30.0),
+        wave_vortex: 0.05,
+        vortex_strength: 0.8,
+        frame: cellsurf::ripple::Frame::Grid,
+        hop_grains: 37.5,
+        hop_exponential: true,
+        crest_suspension: 0.02,
+        ..small()
+    };
+    let mut r = Ripple::new(&p).unwrap();
+    let snaps = run_recording(&mut r, 4, &[4], |_| {});
+    let spec = OutputSpec {
+        fields: vec![Field::Elevation],
+        format: Format::NetCdf,
+    };
+    let path = tmp("roundtrip_opt_in.nc");
+    write_netcdf(&path, &r, &snaps, &spec).unwrap();
+    let f = cellsurf::ripple::input::read(&path).unwrap();
+    assert_eq!(f.params, p, "every opt-in key survives the file");
+}
+
+#[test]
 fn reading_a_file_that_is_not_a_ripple_volume_names_the_file() {
     let path = tmp("not.nc");
     std::fs::write(&path, b"CDF\x02 but nothing else").unwrap();
