@@ -185,22 +185,8 @@ pub fn read(path: &Path) -> Result<RippleFile, RippleError> {
         })?;
 
     let mut table = toml::Table::new();
-    // Every key, with its type: the fields left out of files at their defaults (the stop rule,
-    // the waves' angle, friction factor and lee vortex, the frame, the opt-in travel and
-    // suspension keys) set to something else so that they are listed (the test
-    // `netcdf_round_trip_keeps_every_opt_in_key` fails when one is missing here).
-    let every = RippleParams {
-        until: Some(String::new()),
-        wave_angle: Some(0.0),
-        wave_friction_factor: 0.5,
-        wave_vortex: 0.5,
-        vortex_strength: 1.0,
-        frame: Frame::Grid,
-        hop_grains: 1.0,
-        hop_exponential: true,
-        crest_suspension: 0.5,
-        ..RippleParams::default()
-    };
+    // Every key, with its type.
+    let every = RippleParams::every_key();
     let defaults = match toml::Value::try_from(every) {
         Ok(toml::Value::Table(t)) => t,
         _ => toml::Table::new(),

@@ -104,7 +104,9 @@ named_enum!(AcousticModel, "acoustics", "hamilton or apl-uw",
     "hamilton" => AcousticModel::Hamilton, "apl-uw" => AcousticModel::AplUw);
 
 /// Every parameter of a ripple run. Lengths in metres unless stated; angles in degrees; times
-/// in model steps (one step = `activity x automata` Monte Carlo activations).
+/// in model steps (one step = `activity x automata` Monte Carlo activations). A field left out
+/// of files at its default (`skip_serializing_if`) must also be set away from its default in
+/// [`RippleParams::every_key`], or files read back lose it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RippleParams {
@@ -292,6 +294,29 @@ impl Default for RippleParams {
             compaction_rate: 0.1,
             compaction_depth: 4,
             acoustics: AcousticModel::Hamilton,
+        }
+    }
+}
+
+impl RippleParams {
+    /// Parameters whose serialization lists every key with its type: the fields left out of
+    /// files at their defaults (the stop rule, the waves' angle, friction factor and lee
+    /// vortex, the frame, the opt-in travel and suspension keys) set to something else. The
+    /// reader of files ([`super::input::read`]) takes the keys and their types from it; the
+    /// values are never used (the test `netcdf_round_trip_keeps_every_opt_in_key` fails when a
+    /// key is missing here; the frame is read apart).
+    pub(crate) fn every_key() -> RippleParams {
+        RippleParams {
+            until: Some(String::new()),
+            wave_angle: Some(0.0),
+            wave_friction_factor: 0.5,
+            wave_vortex: 0.5,
+            vortex_strength: 1.0,
+            frame: Frame::Grid,
+            hop_grains: 1.0,
+            hop_exponential: true,
+            crest_suspension: 0.5,
+            ..RippleParams::default()
         }
     }
 }
