@@ -106,7 +106,7 @@ named_enum!(AcousticModel, "acoustics", "hamilton or apl-uw",
 /// Every parameter of a ripple run. Lengths in metres unless stated; angles in degrees; times
 /// in model steps (one step = `activity x automata` Monte Carlo activations). A field left out
 /// of files at its default (`skip_serializing_if`) must also be set away from its default in
-/// [`RippleParams::every_key`], or files read back lose it.
+/// `RippleParams::every_key`, or files read back lose it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RippleParams {
