@@ -231,6 +231,28 @@ pub struct RippleParams {
     /// from the grain or the flow. 0..=1 (0: off). Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub crest_suspension: f64,
+    /// Leading bed stress (opt-in), dimensionless factor `B`: the speed fraction at the bed
+    /// of an exposed column is multiplied by `max(0, 1 + B r)`, `r` the bed's rise (m per m)
+    /// from the column two bins upstream to this one, so the flow is faster on the upstream
+    /// face of every bump and slower on its downstream face. Our reading of the linear theory
+    /// of turbulent flow over low bumps, in which the bed stress leads the topography (a term
+    /// in phase with the slope): P. S. Jackson and J. C. R. Hunt (1975), "Turbulent wind flow
+    /// over a low hill", *Q. J. R. Meteorol. Soc.* 101, 929-955,
+    /// <https://doi.org/10.1002/qj.49710143015>; F. Charru, B. Andreotti and P. Claudin
+    /// (2013), "Sand ripples and dunes", *Annu. Rev. Fluid Mech.* 45, 469-493,
+    /// <https://doi.org/10.1146/annurev-fluid-011212-140806>. With `separation_angle` it
+    /// starts ripples on a flat bed without the shelter of bumps of an automaton or two.
+    /// 0..=100 (0: off). Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub stress_lead: f64,
+    /// Flow separation angle (opt-in), degrees: an obstruction shelters the bed behind it
+    /// (the water slices' zero-speed zone and recovery, Sect. 2.3) only where the bed drops
+    /// behind it by at least this angle over the next bin downstream, in whole automata
+    /// (`ceil(tan(angle) bin / layer_thickness)`), since the flow stays attached over gentle
+    /// bumps. 0 (off: every obstruction shelters, as in the paper) or in [1, avalanche_angle].
+    /// Slices only. Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub separation_angle: f64,
     /// Bed drag coefficient C_D of tau = rho_w C_D u^2 (Soulsby 1997), > 0. Default 0.0025.
     pub drag_coefficient: f64,
     /// Water slices: slice thickness, in automata (layers), >= 1. Default 2.
@@ -286,6 +308,8 @@ impl Default for RippleParams {
             hop_length: 1.5,
             hop_grains: 0.0,
             crest_suspension: 0.0,
+            stress_lead: 0.0,
+            separation_angle: 0.0,
             hop_exponential: false,
             drag_coefficient: 0.0025,
             slice_layers: 2,
@@ -316,6 +340,8 @@ impl RippleParams {
             hop_grains: 1.0,
             hop_exponential: true,
             crest_suspension: 0.5,
+            stress_lead: 1.0,
+            separation_angle: 10.0,
             ..RippleParams::default()
         }
     }
@@ -805,6 +831,22 @@ impl RippleParams {
             false,
             false,
         )?;
+        check_f("stress_lead", self.stress_lead, 0.0, 100.0, false, false)?;
+        check_f(
+            "separation_angle",
+            self.separation_angle,
+            0.0,
+            self.avalanche_angle,
+            false,
+            false,
+        )?;
+        if self.separation_angle > 0.0 && self.abstraction == Abstraction::Shadow {
+            return Err(range(
+                "separation_angle",
+                shown(self.separation_angle),
+                "0 with abstraction = \"shadow\" (flow separation is a rule of the water slices)",
+            ));
+        }
         check_f(
             "drag_coefficient",
             self.drag_coefficient,
@@ -908,6 +950,18 @@ mod tests {
             ),
             (bad(|p| p.wave_vortex = -0.1), "wave_vortex = -0.1"),
             (bad(|p| p.vortex_strength = 1.5), "vortex_strength = 1.5"),
+            (bad(|p| p.stress_lead = -1.0), "stress_lead = -1"),
+            (bad(|p| p.stress_lead = f64::NAN), "stress_lead = NaN"),
+            (bad(|p| p.stress_lead = 200.0), "stress_lead = 200"),
+            (bad(|p| p.separation_angle = -5.0), "separation_angle = -5"),
+            (bad(|p| p.separation_angle = 40.0), "separation_angle = 40"),
+            (
+                bad(|p| {
+                    p.separation_angle = 15.0;
+                    p.abstraction = Abstraction::Shadow;
+                }),
+                "separation_angle = 15",
+            ),
         ] {
             assert!(e.starts_with(key) && e.contains("out of range"), "{e}");
         }

@@ -20,6 +20,9 @@
 //! at a concave foot (`h_x - h_{x-1} < h_{x+1} - h_x`) of a rise ahead steeper than beta
 //! (`(h_{x+1} - h_x) gd / Delta x > tan beta`). (The printed `(h_x - h_{x+1}) / Delta x < beta`
 //! is always true at a concave foot; we take the rise, our interpretation.)
+//! Two opt-in keys change the exposure: `stress_lead` raises the bed speed of an exposed
+//! column on a rise and lowers it on a drop (`Ripple::lead`), and `separation_angle` lets only
+//! drops of that angle shelter the bed behind them ([`super::water`]).
 //!
 //! **Stoss cap.** "The angle beta defines the maximum slope of the stoss side of the ripple"
 //! (Sect. 2.1): a rolling grain does not come to rest where it would make the rise from the
@@ -152,6 +155,23 @@ impl Ripple {
         }
     }
 
+    /// The leading bed stress (`stress_lead`, opt-in): the speed fraction `s` of an exposed
+    /// column `c` times `max(0, 1 + B r)`, `r` the bed's rise (m per m) from the column two
+    /// bins upstream (octant `k + 4`) to `c`; `s` itself when the rule is off or the column is
+    /// sheltered.
+    #[inline]
+    pub(crate) fn lead(&self, c: usize, k: usize, s: f64) -> f64 {
+        let b = self.p.stress_lead;
+        if b <= 0.0 || s <= 0.0 {
+            return s;
+        }
+        let up2 = self.nb(self.nb(c, k + 4), k + 4);
+        let rise = (self.vol.height(c) as f64 - self.vol.height(up2) as f64)
+            * self.p.layer_thickness
+            / (2.0 * self.dist(k));
+        s * (1.0 + b * rise).max(0.0)
+    }
+
     /// Eq. (3), second case (see the module documentation): the grain in `c` is held at the
     /// concave foot of a rise steeper than beta.
     #[inline]
@@ -192,7 +212,7 @@ impl Ripple {
         if self.vol.height(c) == 0 {
             return 0.0;
         }
-        self.budget_at(c, k, flow, self.bed_speed(c, k, flow))
+        self.budget_at(c, k, flow, self.lead(c, k, self.bed_speed(c, k, flow)))
     }
 
     /// [`Ripple::budget`] of a non-empty column `c` whose bed speed fraction `s` is known.
@@ -246,7 +266,7 @@ impl Ripple {
             self.roll_dir(c, k, budget, flow, true);
             return true;
         }
-        let mut budget = self.budget_at(c, k, flow, s);
+        let mut budget = self.budget_at(c, k, flow, self.lead(c, k, s));
         if budget <= 0.0 {
             return false;
         }

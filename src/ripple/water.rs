@@ -146,6 +146,10 @@ pub struct WaterVolume {
     pub shadow_length: usize,
     /// Recovery length per slice of obstruction, bins (the run's `drag_delay`).
     pub recovery_length: usize,
+    /// Flow separation (the run's `separation_angle`): an obstruction shelters only where the
+    /// bed drops behind it by at least this many automata over the next bin downstream
+    /// (`ceil(tan(angle) bin / layer_thickness)`); 0: every obstruction shelters.
+    pub separation_drop: usize,
 }
 
 impl WaterVolume {
@@ -156,6 +160,15 @@ impl WaterVolume {
             shadow_length: p.shadow_length,
             // the drag between slices is what brings a slice back up to speed (Sect. 2.3)
             recovery_length: p.drag_delay,
+            separation_drop: if p.separation_angle > 0.0 {
+                // (a small margin, so that an angle whose drop is a whole number of automata
+                // asks for that number and not one more)
+                (p.separation_angle.to_radians().tan() * p.bin_size / p.layer_thickness - 1e-9)
+                    .ceil()
+                    .max(1.0) as usize
+            } else {
+                0
+            },
         }
     }
 
@@ -217,6 +230,22 @@ impl WaterVolume {
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
         let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
         let mut s: f64 = 1.0;
+        // The column `k1` bins upstream (0: the column itself), wrapped.
+        let column = |k1: usize| -> usize {
+            let (dx, dy) = match k1.checked_sub(1) {
+                None => (0, 0),
+                Some(k) => match flow.upstream.get(k) {
+                    Some(&o) => o,
+                    None => {
+                        let d = k1 as f64;
+                        ((-d * c).round() as i32, (-d * sn).round() as i32)
+                    }
+                },
+            };
+            let xx = (x as i32 + dx).rem_euclid(nxi);
+            let yy = (y as i32 + dy).rem_euclid(nyi);
+            yy as usize * nx + xx as usize
+        };
         // Each upstream column that rises above the level obstructs the bed's slice (level
         // j0 t) at distance k + 1, e0 = ceil((h - j0 t) / t) slices high.
         for k in 0..reach {
@@ -237,6 +266,11 @@ impl WaterVolume {
             }
             let h = heights[yy as usize * nx + xx as usize] as usize;
             if h <= j0 * t {
+                continue;
+            }
+            // With flow separation (opt-in), only a drop of at least `separation_drop`
+            // automata to the next column downstream shelters.
+            if self.separation_drop > 0 && h < heights[column(k)] as usize + self.separation_drop {
                 continue;
             }
             let e0 = ceil_div(h - j0 * t, t);
@@ -310,6 +344,7 @@ mod tests {
             slice_layers: 1,
             shadow_length: 1,
             recovery_length: 1,
+            separation_drop: 0,
         };
         let n = 400;
         let mut h = vec![10u16; n];
@@ -345,6 +380,7 @@ mod tests {
             slice_layers: 1,
             shadow_length: 2,
             recovery_length: 2,
+            separation_drop: 0,
         };
         let mut h = vec![10u16; 40];
         h[5] = 12; // a crest two slices high
@@ -368,9 +404,13 @@ mod tests {
         let t = w.slice_layers;
         let z = ceil_div(level, t) * t;
         let mut s: f64 = 1.0;
+        let at = |dx: i32| h[(x as i32 + dx).rem_euclid(h.len() as i32) as usize] as usize;
         for (k, &(dx, _)) in f.upstream.iter().enumerate() {
-            let hk = h[(x as i32 + dx).rem_euclid(h.len() as i32) as usize] as usize;
-            if hk > z {
+            let hk = at(dx);
+            // the next column downstream of the obstruction (k = 0: the bed's own)
+            let below = at(if k == 0 { 0 } else { f.upstream[k - 1].0 });
+            let separates = w.separation_drop == 0 || hk >= below + w.separation_drop;
+            if hk > z && separates {
                 s = s.min(w.ramp(k + 1, (hk - z).div_ceil(t)));
             }
         }
@@ -388,6 +428,7 @@ mod tests {
                 slice_layers: 1 + case % 3,
                 shadow_length: case % 4,
                 recovery_length: (case / 3) % 5,
+                separation_drop: (case / 15) % 4,
             };
             let nx = 90;
             let h: Vec<u16> = (0..nx).map(|_| rng.random_range(10..30)).collect();
@@ -401,6 +442,44 @@ mod tests {
             }
         }
         assert!(partial > 1000, "few recovering slices: {partial}");
+    }
+
+    /// `separation_angle`: a bump whose lee drops less than the separation drop shelters
+    /// nothing, a step that drops at least as much shelters as without the rule.
+    #[test]
+    fn flow_separation_only_behind_a_drop_of_the_separation_angle() {
+        let f = flow_x();
+        let p = RippleParams {
+            separation_angle: 15.0,
+            ..RippleParams::default()
+        };
+        let w = WaterVolume::new(&p);
+        // tan(15 deg) x 5 mm / 0.5 mm = 2.68: a drop of 3 automata
+        assert_eq!(w.separation_drop, 3);
+        let off = WaterVolume::new(&RippleParams::default());
+        assert_eq!(off.separation_drop, 0);
+        // a bump 4 automata high at x = 10 whose lee steps down 2 automata per bin, and a step
+        // 4 automata high at x = 30 that drops at once
+        let mut h = vec![10u16; 60];
+        h[10] = 14;
+        h[11] = 12;
+        h[30] = 14;
+        let s = |w: &WaterVolume, x: usize| w.bed_speed(&h, 60, 1, x, 0, 14, &f);
+        // behind the bump: sheltered without the rule (x = 12 is 2 bins behind its top), not
+        // with it (each column drops 2 automata, less than 3)
+        assert_eq!(s(&off, 12), 0.0);
+        assert_eq!(s(&w, 12), 1.0);
+        // behind the step: sheltered either way
+        for x in 31..=32 {
+            assert_eq!(s(&off, x), 0.0, "x {x}");
+            assert_eq!(s(&w, x), 0.0, "x {x}");
+        }
+        // an angle whose drop is a whole number of automata asks for that number
+        let q = RippleParams {
+            separation_angle: 5.710593137499643, // atan(0.1): one automaton over a bin
+            ..RippleParams::default()
+        };
+        assert_eq!(WaterVolume::new(&q).separation_drop, 1);
     }
 
     #[test]
