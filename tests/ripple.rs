@@ -581,6 +581,11 @@ fn scene_files_reject_unknown_keys_and_take_defaults() {
             "[0, 100]",
         ),
         (
+            "ripple_bad_crest_suspension_both.toml",
+            "crest_suspension_grains = 50 is out of range",
+            "not both",
+        ),
+        (
             "ripple_bad_separation_angle.toml",
             "separation_angle = 45 is out of range",
             "[0, 32]",
@@ -715,8 +720,34 @@ fn netcdf_round_trip_gives_back_what_the_run_computed() {
 #[test]
 fn netcdf_round_trip_keeps_every_opt_in_key() {
     // The keys left out of files at their defaults are written when set and must be read
-    // back: every one of them away from its default at once.
-    let p = RippleParams {
+    // back: every one of them away from its default at once (crest suspension's two lengths,
+    // which exclude each other, in two files).
+    let grains = RippleParams {
+        crest_suspension: 0.0,
+        crest_suspension_grains: 50.0,
+        suspension_exponent: 8.0,
+        ..every_opt_in_key()
+    };
+    for (p, name) in [
+        (every_opt_in_key(), "roundtrip_opt_in.nc"),
+        (grains, "roundtrip_opt_in_grains.nc"),
+    ] {
+        let mut r = Ripple::new(&p).unwrap();
+        let snaps = run_recording(&mut r, 4, &[4], |_| {});
+        let spec = OutputSpec {
+            fields: vec![Field::Elevation],
+            format: Format::NetCdf,
+        };
+        let path = tmp(name);
+        write_netcdf(&path, &r, &snaps, &spec).unwrap();
+        let f = cellsurf::ripple::input::read(&path).unwrap();
+        assert_eq!(f.params, p, "every opt-in key survives the file");
+    }
+}
+
+/// Parameters with every key that files leave out at its default set to something else.
+fn every_opt_in_key() -> RippleParams {
+    RippleParams {
         steps: 4,
         until: Some("equilibrium".into()),
         wave_period: 200.0,
@@ -732,17 +763,7 @@ fn netcdf_round_trip_keeps_every_opt_in_key() {
         stress_lead: 2.0,
         separation_angle: 15.0,
         ..small()
-    };
-    let mut r = Ripple::new(&p).unwrap();
-    let snaps = run_recording(&mut r, 4, &[4], |_| {});
-    let spec = OutputSpec {
-        fields: vec![Field::Elevation],
-        format: Format::NetCdf,
-    };
-    let path = tmp("roundtrip_opt_in.nc");
-    write_netcdf(&path, &r, &snaps, &spec).unwrap();
-    let f = cellsurf::ripple::input::read(&path).unwrap();
-    assert_eq!(f.params, p, "every opt-in key survives the file");
+    }
 }
 
 #[test]
@@ -1150,6 +1171,85 @@ fn flow_separation_stops_and_the_leading_stress_restarts_the_instability() {
     );
 }
 
+/// The analysis of a 2-D section of 1.28 m (0.2 mm sand, 0.5 m/s, 10 cm of sand) under the
+/// recipe for mature current ripples (`docs/ripple_mature_current.toml`; docs/ripple.md, "A
+/// recipe for mature current ripples"), after each of `times` seconds of flow, one run
+/// continued; `n` the crest suspension's exponent in place of the recipe's.
+fn recipe_section(seed: u64, n: f64, times: &[f64]) -> Vec<Analysis> {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let text = std::fs::read_to_string(format!("{dir}/docs/ripple_mature_current.toml")).unwrap();
+    let recipe = RippleParams::from_toml(&text).unwrap();
+    assert_eq!(
+        recipe.suspension_exponent, 8.0,
+        "the recipe the docs measure"
+    );
+    let p = RippleParams {
+        mode: Mode::TwoD,
+        nx: 256,
+        ny: 1,
+        layers: 200,
+        suspension_exponent: n,
+        seed,
+        ..recipe
+    };
+    analyses_at(&p, times)
+}
+
+/// The analysis of one run of `p` after each of `times` seconds of flow, the run continued.
+fn analyses_at(p: &RippleParams, times: &[f64]) -> Vec<Analysis> {
+    let clock = cellsurf::ripple::clock::StepClock::of(p).unwrap();
+    let mut r = Ripple::new(p).unwrap();
+    times
+        .iter()
+        .map(|&t| {
+            let n = clock.steps_for(t).unwrap();
+            r.run(n - r.time(), |_| {});
+            assert_eq!(r.mass_change(), 0);
+            Analysis::of(&r)
+        })
+        .collect()
+}
+
+/// The recipe for mature current ripples holds its length and height from 6000 s to 24,000 s
+/// with slip faces at the angle of repose and a ripple index near nature's; with crest
+/// suspension's default exponent (2) in place of 8 the same section is flatter. Measured
+/// (1.28 m, seed 1): 18.3 cm and 1.67 cm at both times, lee 29.7 deg, ripple index 11.0, and
+/// 15.3 with the exponent 2 (on 2.56 m, seeds 1-2: 21.3 / 19.7 cm from 6000 to 96,000 s). The bounds: at most one ripple fewer on
+/// the section (lengths are 128 / k cm), the height within 10 %, lee at least 27 deg (the
+/// avalanche angle is 32), ripple index at most 13; with the exponent 2, a ripple index above
+/// the exponent 8's by at least 2.
+#[test]
+fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
+    let a = recipe_section(1, 8.0, &[6000.0, 24_000.0]);
+    let (early, late) = (&a[0], &a[1]);
+    eprintln!(
+        "recipe: {:.1} / {:.1} cm, {:.2} / {:.2} cm high, lee {:.1}, ripple index {:.1}",
+        early.wavelength_m * 100.0,
+        late.wavelength_m * 100.0,
+        early.height_m * 100.0,
+        late.height_m * 100.0,
+        late.lee_slope_deg,
+        late.ripple_index
+    );
+    let ripples = |a: &Analysis| (1.28 / a.wavelength_m).round();
+    assert!(ripples(late) >= ripples(early) - 1.0, "{early:?} {late:?}");
+    assert!(
+        (late.height_m / early.height_m - 1.0).abs() < 0.1,
+        "{early:?} {late:?}"
+    );
+    assert!(
+        late.lee_slope_deg >= 27.0 && late.ripple_index <= 13.0,
+        "{late:?}"
+    );
+    let square = recipe_section(1, 2.0, &[24_000.0]);
+    eprintln!("exponent 2: ripple index {:.1}", square[0].ripple_index);
+    assert!(
+        square[0].ripple_index >= late.ripple_index + 2.0,
+        "{:?}",
+        square[0]
+    );
+}
+
 /// The wavelength of a 2-D section of 1.28 m (0.2 mm sand, 0.5 m/s, 10 cm of sand) after each
 /// of `times` seconds of flow, one run continued.
 fn section_wavelengths(seed: u64, crest_suspension: f64, times: &[f64]) -> Vec<f64> {
@@ -1164,15 +1264,9 @@ fn section_wavelengths(seed: u64, crest_suspension: f64, times: &[f64]) -> Vec<f
         seed,
         ..RippleParams::default()
     };
-    let clock = cellsurf::ripple::clock::StepClock::of(&p).unwrap();
-    let mut r = Ripple::new(&p).unwrap();
-    times
+    analyses_at(&p, times)
         .iter()
-        .map(|&t| {
-            let n = clock.steps_for(t).unwrap();
-            r.run(n - r.time(), |_| {});
-            Analysis::of(&r).wavelength_m
-        })
+        .map(|a| a.wavelength_m)
         .collect()
 }
 

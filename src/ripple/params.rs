@@ -223,7 +223,8 @@ pub struct RippleParams {
     pub hop_exponential: bool,
     /// Crest suspension (opt-in), m: a grain that the flow has moved (at least one hop,
     /// outside the lee vortex) from a column whose top stood `zeta` metres above the bed's
-    /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^2)`, and
+    /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^n)` (`n` the
+    /// `suspension_exponent`, default 2), and
     /// settles on a column drawn uniformly from the whole volume instead of where it rolled.
     /// Our reading of the sand that a crest sheds into the flow above the ripples, which
     /// settles over many ripple lengths: the higher a crest, the more it sheds, so sand passes
@@ -231,6 +232,18 @@ pub struct RippleParams {
     /// from the grain or the flow. 0..=1 (0: off). Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub crest_suspension: f64,
+    /// Crest suspension's length in median grain diameters (opt-in): when above 0, crest
+    /// suspension acts with `L = crest_suspension_grains x d50` in place of `crest_suspension`
+    /// (which must then be 0), so that one scenario scales with the grain. A factor chosen by
+    /// the user, not derived. 0..=1e5 (0: off). Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub crest_suspension_grains: f64,
+    /// Crest suspension's exponent `n`: a grain moved from `zeta` above the bed's mean level
+    /// is suspended with probability `min(1, (zeta / L)^n)`, so a larger `n` sheds sand
+    /// from the crests above `L` and hardly from the lower ones. In [1, 64]. Left out of files
+    /// when 2. Default 2.
+    #[serde(skip_serializing_if = "is_two")]
+    pub suspension_exponent: f64,
     /// Leading bed stress (opt-in), dimensionless factor `B`: the speed fraction at the bed
     /// of an exposed column is multiplied by `max(0, 1 + B r)`, `r` the bed's rise (m per m)
     /// from the column two bins upstream to this one, so the flow is faster on the upstream
@@ -308,6 +321,8 @@ impl Default for RippleParams {
             hop_length: 1.5,
             hop_grains: 0.0,
             crest_suspension: 0.0,
+            crest_suspension_grains: 0.0,
+            suspension_exponent: 2.0,
             stress_lead: 0.0,
             separation_angle: 0.0,
             hop_exponential: false,
@@ -340,6 +355,8 @@ impl RippleParams {
             hop_grains: 1.0,
             hop_exponential: true,
             crest_suspension: 0.5,
+            crest_suspension_grains: 1.0,
+            suspension_exponent: 4.0,
             stress_lead: 1.0,
             separation_angle: 10.0,
             ..RippleParams::default()
@@ -420,6 +437,10 @@ fn is_zero(v: &f64) -> bool {
 
 fn is_half(v: &f64) -> bool {
     *v == 0.5
+}
+
+fn is_two(v: &f64) -> bool {
+    *v == 2.0
 }
 
 fn check_f(
@@ -655,6 +676,16 @@ impl RippleParams {
         }
     }
 
+    /// Crest suspension's length `L`, metres: `crest_suspension_grains x d50` when that is
+    /// set, `crest_suspension` otherwise (0: the rule is off).
+    pub fn crest_suspension_m(&self) -> f64 {
+        if self.crest_suspension_grains > 0.0 {
+            self.crest_suspension_grains * self.d50 * 1e-3
+        } else {
+            self.crest_suspension
+        }
+    }
+
     /// The slope of one automaton over one bin, degrees: `atan(layer_thickness / bin_size)`,
     /// the smallest slope the lattice can make between two neighbouring columns (at most the
     /// avalanche angle, [`RippleParams::validate`]).
@@ -831,6 +862,29 @@ impl RippleParams {
             false,
             false,
         )?;
+        check_f(
+            "crest_suspension_grains",
+            self.crest_suspension_grains,
+            0.0,
+            1e5,
+            false,
+            false,
+        )?;
+        if self.crest_suspension_grains > 0.0 && self.crest_suspension > 0.0 {
+            return Err(range(
+                "crest_suspension_grains",
+                shown(self.crest_suspension_grains),
+                "0 when crest_suspension is set (crest suspension's length in metres or in grain diameters, not both)",
+            ));
+        }
+        check_f(
+            "suspension_exponent",
+            self.suspension_exponent,
+            1.0,
+            64.0,
+            false,
+            false,
+        )?;
         check_f("stress_lead", self.stress_lead, 0.0, 100.0, false, false)?;
         check_f(
             "separation_angle",
@@ -950,6 +1004,25 @@ mod tests {
             ),
             (bad(|p| p.wave_vortex = -0.1), "wave_vortex = -0.1"),
             (bad(|p| p.vortex_strength = 1.5), "vortex_strength = 1.5"),
+            (
+                bad(|p| p.crest_suspension_grains = -1.0),
+                "crest_suspension_grains = -1",
+            ),
+            (
+                bad(|p| {
+                    p.crest_suspension_grains = 50.0;
+                    p.crest_suspension = 0.02;
+                }),
+                "crest_suspension_grains = 50",
+            ),
+            (
+                bad(|p| p.suspension_exponent = 0.5),
+                "suspension_exponent = 0.5",
+            ),
+            (
+                bad(|p| p.suspension_exponent = f64::NAN),
+                "suspension_exponent = NaN",
+            ),
             (bad(|p| p.stress_lead = -1.0), "stress_lead = -1"),
             (bad(|p| p.stress_lead = f64::NAN), "stress_lead = NaN"),
             (bad(|p| p.stress_lead = 200.0), "stress_lead = 200"),
@@ -975,6 +1048,13 @@ mod tests {
         assert!((ok.hop_metres(2e-4) - 37.5 * 2e-4).abs() < 1e-15);
         ok.hop_grains = 0.0;
         assert_eq!(ok.hop_metres(2e-4), 1.5 * ok.bin_size);
+        // crest suspension's length: in metres, or in median grain diameters (d50 in mm)
+        ok.crest_suspension = 0.02;
+        assert_eq!(ok.crest_suspension_m(), 0.02);
+        ok.crest_suspension = 0.0;
+        ok.crest_suspension_grains = 50.0;
+        assert!(ok.validate().is_ok());
+        assert!((ok.crest_suspension_m() - 50.0 * 0.2e-3).abs() < 1e-15);
     }
 
     #[test]

@@ -279,16 +279,17 @@ impl Ripple {
         true
     }
 
-    /// Crest suspension (`crest_suspension`, opt-in): where a grain that the flow has just moved
-    /// (at least one hop, not in the lee vortex) from a column whose top stood at
-    /// `start_level` automata settles instead of where it rolled. With probability
-    /// `min(1, (zeta / L)^2)`, `zeta` the height of that top above the bed's mean level (the
+    /// Crest suspension (`crest_suspension` or `crest_suspension_grains`, opt-in): where a
+    /// grain that the flow has just moved (at least one hop, not in the lee vortex) from a
+    /// column whose top stood at `start_level` automata settles instead of where it rolled.
+    /// With probability `min(1, (zeta / L)^n)` (`n` the `suspension_exponent`), `zeta` the height of that top above the bed's mean level (the
     /// automata per column, constant as the mass is), it was suspended and settles on a column
     /// drawn uniformly from the whole volume (upstream or downstream, the grain's own column
     /// included; a full column leaves it where it rolled), with a rolled grain's porosity.
     /// `None`: it rolled. No random draw when the rule is off or `zeta` is not above 0.
     fn suspension_landing(&mut self, start_level: usize, vortex: bool) -> Option<usize> {
-        if vortex || self.p.crest_suspension <= 0.0 {
+        let l = self.p.crest_suspension_m();
+        if vortex || l <= 0.0 {
             return None;
         }
         let columns = self.vol.columns();
@@ -297,7 +298,12 @@ impl Ripple {
         if zeta <= 0.0 {
             return None;
         }
-        let p = (zeta / self.p.crest_suspension).powi(2);
+        let n = self.p.suspension_exponent;
+        let p = if n == 2.0 {
+            (zeta / l).powi(2)
+        } else {
+            (zeta / l).powf(n)
+        };
         if self.rng.random::<f64>() >= p {
             return None;
         }
