@@ -535,6 +535,12 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             p.current_speed
         ));
     }
+    if p.suspension_exponent != 2.0 && p.crest_suspension_m() <= 0.0 {
+        conv::note(format_args!(
+            "warning: suspension_exponent = {} has no effect: crest suspension is off (crest_suspension and crest_suspension_grains are 0)",
+            p.suspension_exponent
+        ));
+    }
     // (a bin or an avalanche angle out of its own range is named by its own check)
     if p.bin_size > 0.0
         && p.avalanche_angle > 0.0

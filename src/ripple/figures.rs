@@ -152,9 +152,12 @@ fn fig2(dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
             let s = if z < h {
                 // sand: red if its column's top grain is exposed (would move), brown otherwise
                 if z + 1 == h
-                    && r.water()
-                        .bed_speed(r.volume().heights(), nx, 1, x, 0, hmax, &flow)
-                        > 0.0
+                    && r.lead(
+                        x,
+                        0,
+                        r.water()
+                            .bed_speed(r.volume().heights(), nx, 1, x, 0, hmax, &flow),
+                    ) > 0.0
                 {
                     250
                 } else {

@@ -224,9 +224,8 @@ pub struct RippleParams {
     /// Crest suspension (opt-in), m: a grain that the flow has moved (at least one hop,
     /// outside the lee vortex) from a column whose top stood `zeta` metres above the bed's
     /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^n)` (`n` the
-    /// `suspension_exponent`, default 2), and
-    /// settles on a column drawn uniformly from the whole volume instead of where it rolled.
-    /// Our reading of the sand that a crest sheds into the flow above the ripples, which
+    /// `suspension_exponent`, default 2), and settles on a column drawn uniformly from the
+    /// whole volume instead of where it rolled. Our reading of the sand that a crest sheds into the flow above the ripples, which
     /// settles over many ripple lengths: the higher a crest, the more it sheds, so sand passes
     /// from the highest ripples to all the others. A length chosen by the user, not derived
     /// from the grain or the flow. 0..=1 (0: off). Left out of files when 0. Default 0.
@@ -260,10 +259,13 @@ pub struct RippleParams {
     pub stress_lead: f64,
     /// Flow separation angle (opt-in), degrees: an obstruction shelters the bed behind it
     /// (the water slices' zero-speed zone and recovery, Sect. 2.3) only where the bed drops
-    /// behind it by at least this angle over the next bin downstream, in whole automata
-    /// (`ceil(tan(angle) bin / layer_thickness)`), since the flow stays attached over gentle
-    /// bumps. 0 (off: every obstruction shelters, as in the paper) or in [1, avalanche_angle].
-    /// Slices only. Left out of files when 0. Default 0.
+    /// behind it by at least this angle over the step to the next point downstream, in whole
+    /// automata (`ceil(tan(angle) bin / layer_thickness)` over a bin, more over a diagonal
+    /// step), since the flow stays attached over gentle bumps. 0 (off: every obstruction
+    /// shelters, as in the paper) or an angle whose drop over a bin is 2 automata or more and
+    /// no steeper than the avalanche angle (above 5.71 and at most 30.96 deg at the default
+    /// bin, layer thickness and avalanche angle). Slices only. Left out of files when 0.
+    /// Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub separation_angle: f64,
     /// Bed drag coefficient C_D of tau = rho_w C_D u^2 (Soulsby 1997), > 0. Default 0.0025.
@@ -894,6 +896,26 @@ impl RippleParams {
             false,
             false,
         )?;
+        if self.separation_angle > 0.0 && self.lattice_slope_deg() <= self.avalanche_angle {
+            // Along an axis the least drop is ceil(tan(angle) bin / gd) automata: 1 shelters
+            // as without the rule (a column at least as high downstream is itself a nearer
+            // obstruction), and a drop steeper than the avalanche angle never stands.
+            let per_automaton = self.layer_thickness / self.bin_size;
+            let drop = (self.separation_angle.to_radians().tan() / per_automaton - 1e-9).ceil();
+            let most = (self.avalanche_angle.to_radians().tan() / per_automaton + 1e-9).floor();
+            if drop < 2.0 || drop > most {
+                let deg = |automata: f64| (automata * per_automaton).atan().to_degrees();
+                return Err(range(
+                    "separation_angle",
+                    shown(self.separation_angle),
+                    &format!(
+                        "0 (off) or an angle whose drop over a bin, ceil(tan(angle) x bin_size / layer_thickness) automata, is 2 to {most} (1 shelters as without the rule; more than {most} is steeper than the avalanche angle and never stands): here above {:.3} and at most {:.3} deg",
+                        deg(1.0),
+                        deg(most)
+                    ),
+                ));
+            }
+        }
         if self.separation_angle > 0.0 && self.abstraction == Abstraction::Shadow {
             return Err(range(
                 "separation_angle",
@@ -1028,6 +1050,13 @@ mod tests {
             (bad(|p| p.stress_lead = 200.0), "stress_lead = 200"),
             (bad(|p| p.separation_angle = -5.0), "separation_angle = -5"),
             (bad(|p| p.separation_angle = 40.0), "separation_angle = 40"),
+            // a drop of 1 automaton, which shelters as without the rule
+            (bad(|p| p.separation_angle = 3.0), "separation_angle = 3"),
+            // a drop of 7 automata, steeper than the avalanche angle (6.25 automata)
+            (
+                bad(|p| p.separation_angle = 31.5),
+                "separation_angle = 31.5",
+            ),
             (
                 bad(|p| {
                     p.separation_angle = 15.0;

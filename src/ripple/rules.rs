@@ -282,10 +282,11 @@ impl Ripple {
     /// Crest suspension (`crest_suspension` or `crest_suspension_grains`, opt-in): where a
     /// grain that the flow has just moved (at least one hop, not in the lee vortex) from a
     /// column whose top stood at `start_level` automata settles instead of where it rolled.
-    /// With probability `min(1, (zeta / L)^n)` (`n` the `suspension_exponent`), `zeta` the height of that top above the bed's mean level (the
-    /// automata per column, constant as the mass is), it was suspended and settles on a column
-    /// drawn uniformly from the whole volume (upstream or downstream, the grain's own column
-    /// included; a full column leaves it where it rolled), with a rolled grain's porosity.
+    /// With probability `min(1, (zeta / L)^n)` (`n` the `suspension_exponent`), `zeta` the
+    /// height of that top above the bed's mean level (the automata per column, constant as the
+    /// mass is), it was suspended and settles on a column drawn uniformly from the whole volume
+    /// (upstream or downstream, the grain's own column included; a full column leaves it where
+    /// it rolled), with a rolled grain's porosity.
     /// `None`: it rolled. No random draw when the rule is off or `zeta` is not above 0.
     fn suspension_landing(&mut self, start_level: usize, vortex: bool) -> Option<usize> {
         let l = self.p.crest_suspension_m();
@@ -299,6 +300,8 @@ impl Ripple {
             return None;
         }
         let n = self.p.suspension_exponent;
+        // (the square as a product when n = 2, so that runs with the default exponent keep
+        // their bytes)
         let p = if n == 2.0 {
             (zeta / l).powi(2)
         } else {
@@ -618,6 +621,33 @@ mod tests {
         assert_eq!(r.bed_speed(4, 0, &f), 1.0);
         assert_eq!(r.budget(5, 0, &f), 0.0);
         assert!(r.budget(4, 0, &f) > 0.0);
+    }
+
+    /// `stress_lead`: the speed fraction times `max(0, 1 + B r)`, `r` the rise from the column
+    /// two bins upstream over their run; a sheltered column (0) stays sheltered.
+    #[test]
+    fn the_leading_stress_scales_the_speed_by_the_rise_upstream() {
+        // a rise of 2 automata over the two bins before x = 6, a drop of 2 over those before
+        // x = 10
+        let mut h = vec![10usize; 16];
+        h[5] = 11;
+        h[6] = 12;
+        h[7] = 12;
+        h[8] = 12;
+        let r = two_d(&h, |p| p.stress_lead = 2.0);
+        let (gd, dx) = (0.0005, 0.005);
+        let rise = 2.0 * gd / (2.0 * dx);
+        assert!((r.lead(6, 0, 1.0) - (1.0 + 2.0 * rise)).abs() < 1e-12);
+        assert!((r.lead(6, 0, 0.5) - 0.5 * (1.0 + 2.0 * rise)).abs() < 1e-12);
+        assert!((r.lead(10, 0, 1.0) - (1.0 - 2.0 * rise)).abs() < 1e-12);
+        assert_eq!(r.lead(12, 0, 1.0), 1.0, "flat: no change");
+        assert_eq!(r.lead(6, 0, 0.0), 0.0, "a sheltered column stays sheltered");
+        // a drop steeper than 1 / B clamps the speed to 0
+        let steep = two_d(&h, |p| p.stress_lead = 20.0);
+        assert_eq!(steep.lead(10, 0, 1.0), 0.0);
+        // off: the speed itself
+        let off = two_d(&h, |_| {});
+        assert_eq!(off.lead(6, 0, 0.7), 0.7);
     }
 
     #[test]

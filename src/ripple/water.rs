@@ -137,6 +137,34 @@ fn ceil_div(a: usize, b: usize) -> usize {
     }
 }
 
+/// The offset (dx, dy) of the point `k + 1` bins upstream along `flow`, `(c, sn)` the cosine
+/// and sine of its angle: tabulated up to [`MAX_REACH`], rounded beyond.
+#[inline(always)]
+fn upstream_offset(flow: &Flow, k: usize, c: f64, sn: f64) -> (i32, i32) {
+    match flow.upstream.get(k) {
+        Some(&o) => o,
+        None => {
+            let d = (k + 1) as f64;
+            ((-d * c).round() as i32, (-d * sn).round() as i32)
+        }
+    }
+}
+
+/// The index of column (`x`, `y`) moved by `o`, wrapped on the `nxi` x `nyi` torus of row
+/// length `nx`.
+#[inline(always)]
+fn wrapped(x: usize, y: usize, o: (i32, i32), nxi: i32, nyi: i32, nx: usize) -> usize {
+    let mut xx = x as i32 + o.0;
+    let mut yy = y as i32 + o.1;
+    if xx < 0 || xx >= nxi {
+        xx = xx.rem_euclid(nxi);
+    }
+    if yy < 0 || yy >= nyi {
+        yy = yy.rem_euclid(nyi);
+    }
+    yy as usize * nx + xx as usize
+}
+
 /// The sliced water volume's rules (Sect. 2.3).
 #[derive(Clone, Copy, Debug)]
 pub struct WaterVolume {
@@ -146,10 +174,11 @@ pub struct WaterVolume {
     pub shadow_length: usize,
     /// Recovery length per slice of obstruction, bins (the run's `drag_delay`).
     pub recovery_length: usize,
-    /// Flow separation (the run's `separation_angle`): an obstruction shelters only where the
-    /// bed drops behind it by at least this many automata over the next bin downstream
-    /// (`ceil(tan(angle) bin / layer_thickness)`); 0: every obstruction shelters.
-    pub separation_drop: usize,
+    /// Flow separation (the run's `separation_angle`), `tan(angle) bin / layer_thickness`: an
+    /// obstruction shelters only where the bed drops behind it by at least this many automata
+    /// per bin of the step to the next point downstream (in whole automata: [`Self::separation_drop`]);
+    /// 0: every obstruction shelters.
+    pub separation_slope: f64,
 }
 
 impl WaterVolume {
@@ -160,16 +189,21 @@ impl WaterVolume {
             shadow_length: p.shadow_length,
             // the drag between slices is what brings a slice back up to speed (Sect. 2.3)
             recovery_length: p.drag_delay,
-            separation_drop: if p.separation_angle > 0.0 {
-                // (a small margin, so that an angle whose drop is a whole number of automata
-                // asks for that number and not one more)
-                (p.separation_angle.to_radians().tan() * p.bin_size / p.layer_thickness - 1e-9)
-                    .ceil()
-                    .max(1.0) as usize
+            separation_slope: if p.separation_angle > 0.0 {
+                p.separation_angle.to_radians().tan() * p.bin_size / p.layer_thickness
             } else {
-                0
+                0.0
             },
         }
+    }
+
+    /// The least drop, in whole automata, behind an obstruction over a step of `len` bins
+    /// downstream for the flow to separate there: `ceil(separation_slope x len)` (with a small
+    /// margin, so that an angle whose drop is a whole number of automata asks for that number
+    /// and not one more), at least 1.
+    #[inline]
+    pub fn separation_drop(&self, len: f64) -> usize {
+        (self.separation_slope * len - 1e-9).ceil().max(1.0) as usize
     }
 
     /// Speed fraction of a slice at distance `d` bins behind an obstruction `e` slices high.
@@ -230,48 +264,27 @@ impl WaterVolume {
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
         let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
         let mut s: f64 = 1.0;
-        // The column `k1` bins upstream (0: the column itself), wrapped.
-        let column = |k1: usize| -> usize {
-            let (dx, dy) = match k1.checked_sub(1) {
-                None => (0, 0),
-                Some(k) => match flow.upstream.get(k) {
-                    Some(&o) => o,
-                    None => {
-                        let d = k1 as f64;
-                        ((-d * c).round() as i32, (-d * sn).round() as i32)
-                    }
-                },
-            };
-            let xx = (x as i32 + dx).rem_euclid(nxi);
-            let yy = (y as i32 + dy).rem_euclid(nyi);
-            yy as usize * nx + xx as usize
-        };
         // Each upstream column that rises above the level obstructs the bed's slice (level
         // j0 t) at distance k + 1, e0 = ceil((h - j0 t) / t) slices high.
         for k in 0..reach {
-            let (dx, dy) = match flow.upstream.get(k) {
-                Some(&o) => o,
-                None => {
-                    let d = (k + 1) as f64;
-                    ((-d * c).round() as i32, (-d * sn).round() as i32)
-                }
-            };
-            let mut xx = x as i32 + dx;
-            let mut yy = y as i32 + dy;
-            if xx < 0 || xx >= nxi {
-                xx = xx.rem_euclid(nxi);
-            }
-            if yy < 0 || yy >= nyi {
-                yy = yy.rem_euclid(nyi);
-            }
-            let h = heights[yy as usize * nx + xx as usize] as usize;
+            let o = upstream_offset(flow, k, c, sn);
+            let h = heights[wrapped(x, y, o, nxi, nyi, nx)] as usize;
             if h <= j0 * t {
                 continue;
             }
-            // With flow separation (opt-in), only a drop of at least `separation_drop`
-            // automata to the next column downstream shelters.
-            if self.separation_drop > 0 && h < heights[column(k)] as usize + self.separation_drop {
-                continue;
+            // With flow separation (opt-in), only a drop of at least `separation_drop` automata
+            // over the step to the next point downstream shelters (the same point twice, on a
+            // digital line, is no drop).
+            if self.separation_slope > 0.0 {
+                let on = match k {
+                    0 => (0, 0),
+                    _ => upstream_offset(flow, k - 1, c, sn),
+                };
+                let below = heights[wrapped(x, y, on, nxi, nyi, nx)] as usize;
+                let len = f64::from(o.0 - on.0).hypot(f64::from(o.1 - on.1));
+                if h < below + self.separation_drop(len) {
+                    continue;
+                }
             }
             let e0 = ceil_div(h - j0 * t, t);
             // The bed slice is within this obstruction's zero-speed zone.
@@ -344,7 +357,7 @@ mod tests {
             slice_layers: 1,
             shadow_length: 1,
             recovery_length: 1,
-            separation_drop: 0,
+            separation_slope: 0.0,
         };
         let n = 400;
         let mut h = vec![10u16; n];
@@ -380,7 +393,7 @@ mod tests {
             slice_layers: 1,
             shadow_length: 2,
             recovery_length: 2,
-            separation_drop: 0,
+            separation_slope: 0.0,
         };
         let mut h = vec![10u16; 40];
         h[5] = 12; // a crest two slices high
@@ -409,7 +422,7 @@ mod tests {
             let hk = at(dx);
             // the next column downstream of the obstruction (k = 0: the bed's own)
             let below = at(if k == 0 { 0 } else { f.upstream[k - 1].0 });
-            let separates = w.separation_drop == 0 || hk >= below + w.separation_drop;
+            let separates = w.separation_slope == 0.0 || hk >= below + w.separation_drop(1.0);
             if hk > z && separates {
                 s = s.min(w.ramp(k + 1, (hk - z).div_ceil(t)));
             }
@@ -428,7 +441,7 @@ mod tests {
                 slice_layers: 1 + case % 3,
                 shadow_length: case % 4,
                 recovery_length: (case / 3) % 5,
-                separation_drop: (case / 15) % 4,
+                separation_slope: ((case / 15) % 4) as f64,
             };
             let nx = 90;
             let h: Vec<u16> = (0..nx).map(|_| rng.random_range(10..30)).collect();
@@ -454,10 +467,12 @@ mod tests {
             ..RippleParams::default()
         };
         let w = WaterVolume::new(&p);
-        // tan(15 deg) x 5 mm / 0.5 mm = 2.68: a drop of 3 automata
-        assert_eq!(w.separation_drop, 3);
+        // tan(15 deg) x 5 mm / 0.5 mm = 2.68: a drop of 3 automata over a bin, 4 over a
+        // diagonal step (3.79)
+        assert_eq!(w.separation_drop(1.0), 3);
+        assert_eq!(w.separation_drop(std::f64::consts::SQRT_2), 4);
         let off = WaterVolume::new(&RippleParams::default());
-        assert_eq!(off.separation_drop, 0);
+        assert_eq!(off.separation_slope, 0.0);
         // a bump 4 automata high at x = 10 whose lee steps down 2 automata per bin, and a step
         // 4 automata high at x = 30 that drops at once
         let mut h = vec![10u16; 60];
@@ -479,7 +494,34 @@ mod tests {
             separation_angle: 5.710593137499643, // atan(0.1): one automaton over a bin
             ..RippleParams::default()
         };
-        assert_eq!(WaterVolume::new(&q).separation_drop, 1);
+        assert_eq!(WaterVolume::new(&q).separation_drop(1.0), 1);
+    }
+
+    /// On a diagonal flow the step to the next point downstream is a diagonal of sqrt(2) bins,
+    /// so a drop that separates the flow along an axis (3 automata at 15 deg) does not
+    /// separate it there; 4 automata do.
+    #[test]
+    fn flow_separation_scales_with_the_diagonal_step() {
+        let p = RippleParams {
+            separation_angle: 15.0,
+            current_angle: 45.0,
+            frame: crate::ripple::Frame::Grid,
+            ..RippleParams::default()
+        };
+        let f = Flow::at(&p, 0, false);
+        let w = WaterVolume::new(&p);
+        let n = 16;
+        // the column (4, 4), and the bed's (5, 5), diagonally downstream of it, one step away
+        let bed = |drop: u16| {
+            let mut h = vec![20u16; n * n];
+            h[4 * n + 4] = 20 + drop;
+            h
+        };
+        for (drop, sheltered) in [(3, false), (4, true)] {
+            let h = bed(drop);
+            let s = w.bed_speed(&h, n, n, 5, 5, 20 + drop as usize, &f);
+            assert_eq!(s == 0.0, sheltered, "drop {drop}: speed {s}");
+        }
     }
 
     #[test]
