@@ -175,9 +175,13 @@ pub fn draw_study(
 ) -> Result<Vec<PathBuf>, FigureError> {
     let name = study.figure();
     let f = find(&name).ok_or_else(|| FigureError::Model(format!("no figure {name}")))?;
-    measured(f, dir, || {
+    // (every PNG records `figure = "NAME"`, as `Figure::make` has it)
+    crate::plot::set_png_parameters(Some(format!("figure = \"{}\"", f.name)));
+    let made = measured(f, dir, || {
         study.draw(records, dir).map_err(FigureError::Model)
-    })
+    });
+    crate::plot::set_png_parameters(None);
+    made
 }
 
 /// Runs `make` (which draws the measured figure `f` into `dir`) recording its charts, and

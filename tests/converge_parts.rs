@@ -161,6 +161,13 @@ fn the_raytrace_study_splits_by_step_size() {
         ds,
         ["4000", "2000", "1000", "500", "250", "100", "50", "20"]
     );
+    // the gathered table records which figure it draws (written into the PNG), as a figure
+    // made whole does
+    let t = std::fs::read_to_string(dir.join("data/raytrace_error_vs_time.toml")).unwrap();
+    assert!(
+        t.contains("png_parameters = 'figure = \"raytrace_error_vs_time\"'"),
+        "{t}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
