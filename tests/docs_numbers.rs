@@ -278,6 +278,25 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
             }
         }
     }
+    for &d50 in &D50_MM {
+        // the opt-in recipe for mature current ripples: series 5 of the wavelength and height
+        // charts, 6 (ripple index) and 8 (symmetry index) of the current shape chart
+        let case = format!("current, d50 = {d50} mm, the recipe");
+        let Some(r) = c.row(&format!(
+            "| current 0.5 m/s, d50 = {d50} mm, the recipe, 3000 s |"
+        )) else {
+            continue;
+        };
+        let pairs = [(0, 5, 1), (1, 5, 3), (4, 6, 5), (4, 8, 6)];
+        for (what, (chart, series, cell)) in
+            ["wavelength", "height", "ripple index", "symmetry index"]
+                .iter()
+                .zip(pairs)
+        {
+            let (m, e) = (s.mean(chart, series, d50), s.se(chart, series, d50));
+            c.expect_mean_se(&format!("{case}, {what}"), &r[cell], m, e);
+        }
+    }
     for &d0 in &D0_M {
         let x = d0 * 100.0;
         let (wh_l, wh_h, _) = wiberg_harris(d0, WAVE_D50_M);

@@ -1267,3 +1267,74 @@ fn scenario_keys_in_seconds_and_their_steps_are_not_both_given() {
         assert!(err.contains("keep one"), "{err}");
     }
 }
+
+/// `--recipe mature-current` starts from the built-in recipe (the keys of
+/// docs/ripple_mature_current.toml), options typed with it override it, it cannot be given
+/// with `--scenario`, an unknown name is refused naming the valid one, and it warns where the
+/// waves dominate (it is for currents).
+#[test]
+fn the_recipe_flag_starts_from_the_built_in_recipe() {
+    use cellsurf::ripple::RippleParams;
+    use cellsurf::ripple::recipe::Recipe;
+    let o = cellsurf(&[
+        "ripple",
+        "--recipe",
+        "mature-current",
+        "--d50",
+        "0.3",
+        "--print-scenario",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let printed = RippleParams::from_toml(&text).unwrap();
+    let expected = RippleParams {
+        d50: 0.3,
+        ..Recipe::MatureCurrent.params()
+    };
+    assert_eq!(printed, expected, "{text}");
+    let file = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/docs/ripple_mature_current.toml"
+    ))
+    .unwrap();
+    assert_eq!(
+        RippleParams::from_toml(&file).unwrap(),
+        Recipe::MatureCurrent.params()
+    );
+
+    let scene = tmp("recipe_scene.toml");
+    std::fs::write(&scene, "model = \"ripple\"\nd50 = 0.3\n").unwrap();
+    let args = [
+        "ripple",
+        "--recipe",
+        "mature-current",
+        "--scenario",
+        scene.to_str().unwrap(),
+        "--print-scenario",
+    ];
+    let o = cellsurf(&args);
+    assert_refused(&args, &o, "--recipe", "--scenario");
+
+    let args = ["ripple", "--recipe", "mature", "--print-scenario"];
+    let o = cellsurf(&args);
+    assert_refused(&args, &o, "recipe", "mature-current");
+
+    let mut args = SMALL.to_vec();
+    args.extend(["--recipe", "mature-current"]);
+    args.extend(WAVES);
+    let o = cellsurf(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning: --recipe mature-current is for currents"),
+        "{err}"
+    );
+    let mut args = SMALL.to_vec();
+    args.extend(["--recipe", "mature-current"]);
+    let o = cellsurf(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success() && !err.contains("is for currents"),
+        "{err}"
+    );
+}

@@ -392,7 +392,7 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
     let out = tmp("eq.npy");
     // (a 12 cm field that reaches the domain's length and then settles: it stops at 32,000
     // steps, two doublings after its first quiet one)
-    let o = cellsurf(&[
+    let until = [
         "ripple",
         "--size",
         "24x12",
@@ -404,11 +404,19 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
         "equilibrium",
         "--steps",
         "64000",
-        "--snapshots",
-        "0,40000,64000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    ];
+    let o = cellsurf(
+        &[
+            &until[..],
+            &[
+                "--snapshots",
+                "0,40000,64000",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        ]
+        .concat(),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let e = String::from_utf8_lossy(&o.stderr);
     let side: serde_json::Value =
@@ -423,6 +431,10 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
         e.contains("were not reached") && e.contains("40000, 64000"),
         "{e}"
     );
+    // the default snapshots (start and end) were not asked for: the end is the stop, no note
+    let o = cellsurf(&until);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !e.contains("were not reached"), "{e}");
     // the scenario keeps `until`
     let o = cellsurf(&["ripple", "--until", "equilibrium", "--print-scenario"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("until = \"equilibrium\""));

@@ -1,9 +1,10 @@
 //! `cellsurf ripple`: runs the sand-ripple volume generator ([`cellsurf::ripple`]) and writes
 //! the volume as NetCDF-3, `.npy` files or a Zarr v3 store; `--json` prints a summary.
 //!
-//! Parameters come from the defaults (the paper's Fig. 3 situation), then a `--scenario`
-//! TOML file (`model = "ripple"` and the same keys as the options, with underscores; unknown
-//! keys rejected), then the options given on the command line.
+//! Parameters come from the defaults (the paper's Fig. 3 situation) or a built-in `--recipe`
+//! ([`cellsurf::ripple::recipe`]), or from a `--scenario` TOML file (`model = "ripple"` and the
+//! same keys as the options, with underscores; unknown keys rejected), then the options given
+//! on the command line.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -18,6 +19,7 @@ use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
+use cellsurf::ripple::recipe::Recipe;
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -34,7 +36,8 @@ use cellsurf::ripple::{
         cellsurf ripple --size 64x32 --steps 2000 --out bed.npy --json\n  \
         cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
         cellsurf ripple --mode 2d --size 400x1 --abstraction shadow --out section.npy\n  \
-        cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3"
+        cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3\n  \
+        cellsurf ripple --recipe mature-current --mode 2d --size 512x1 --layers 200 --until equilibrium --duration 6h --json"
 )]
 pub struct Args {
     /// Start from this scenario file (TOML, `model = "ripple"` and the same keys as the
@@ -42,6 +45,12 @@ pub struct Args {
     /// `wave_period` in steps or `wave_period_s`); options typed here override it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
+    /// Start from a built-in recipe of opt-in rules instead of the defaults: mature-current
+    /// (current ripples that stop growing, with slip faces at 0.2 mm and coarser; docs/ripple.md,
+    /// "A recipe for mature current ripples"); options typed here override it.
+    /// `--print-scenario` shows its keys.
+    #[arg(long, value_name = "NAME", conflicts_with = "scenario")]
+    recipe: Option<Recipe>,
     /// 2d (one section along the current) or 3d [default: 3d].
     #[arg(long)]
     mode: Option<Mode>,
@@ -306,7 +315,7 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             RippleParams::from_table(t)
                 .map_err(|e| anyhow::anyhow!("in --scenario {}: {e}", path.display()))?
         }
-        None => RippleParams::default(),
+        None => a.recipe.map(Recipe::params).unwrap_or_default(),
     };
     // the command line's --steps and --duration win over the file's duration_s
     if a.steps.is_some() {
@@ -531,6 +540,13 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
     if let Some(beta) = a.stoss_angle.filter(|_| p.waves_dominate()) {
         conv::note(format_args!(
             "warning: --stoss-angle = {beta} deg has no effect here: the stoss cap acts only where the current's bed stress exceeds the waves' (under waves each face is the stoss for half a cycle); here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s)",
+            p.wave_stress_amplitude(),
+            p.current_speed
+        ));
+    }
+    if let Some(r) = a.recipe.filter(|_| p.waves_dominate()) {
+        conv::note(format_args!(
+            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), where its ripples are far from the wave predictor's (docs/ripple.md, \"A recipe for mature current ripples\")",
             p.wave_stress_amplitude(),
             p.current_speed
         ));
@@ -1134,8 +1150,10 @@ pub fn run(a: Args) -> Result<()> {
         (Some(_), None) => "cap (steps)",
         (None, _) => "steps",
     };
+    // (the default snapshots, the start and the end, are always written: the end is where the
+    // run stopped)
     let missed: Vec<u64> = times.iter().copied().filter(|&t| t > r.time()).collect();
-    if !missed.is_empty() {
+    if !missed.is_empty() && a.snapshots.is_some() {
         conv::note(format_args!(
             "note: the run stopped at step {} ({stop_reason}): the snapshots asked for at {} were not reached",
             r.time(),

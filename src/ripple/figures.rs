@@ -66,7 +66,7 @@ pub const FIGURES: &[Figure] = &[
     },
     Figure {
         name: "ripple_validation",
-        about: "Sand ripple generator against the predictors: current ripples' wavelength and height against d50 (Soulsby & Whitehouse 2005), wave ripples' wavelength against d0 (Wiberg & Harris 1994), crest normal against current angle (means over 3 seeds, standard errors)",
+        about: "Sand ripple generator against the predictors: current ripples' wavelength and height against d50 (Soulsby & Whitehouse 2005), with the paper's rules and with the opt-in recipe for mature current ripples, wave ripples' wavelength against d0 (Wiberg & Harris 1994), crest normal against current angle (means over 3 seeds, standard errors)",
         make: validation,
     },
 ];
@@ -679,12 +679,19 @@ const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
 /// the troughs of the vortex ripples (about 4 cm high) stay off the substrate.
 const VALIDATION_WAVE_LAYERS: usize = 200;
 
-/// One case of the validation study: current ripples of a grain size, wave ripples of an
-/// orbital diameter, or a current angle.
+/// Simulated seconds of the recipe's runs: on its 1.28 m sections the field is mature by then
+/// (the same lengths, within a ripple of the section, as on 2.56 m after 24,000 s).
+const RECIPE_SECONDS: f64 = 3000.0;
+
+/// One case of the validation study: current ripples of a grain size (with the paper's rules,
+/// the default, or with the opt-in recipe), wave ripples of an orbital diameter, or a current
+/// angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum ValidationCase {
     /// d50 (mm), seconds of flow.
     Current(f64, f64),
+    /// d50 (mm), under the recipe for mature current ripples ([`super::recipe::Recipe`]).
+    Recipe(f64),
     /// d0 (m), seconds of waves.
     Wave(f64, f64),
     /// Current angle (deg).
@@ -706,6 +713,7 @@ impl ValidationCase {
                     .map(move |&d| ValidationCase::Wave(d, t))
             }))
             .chain(validation_angles().into_iter().map(ValidationCase::Angle))
+            .chain(VALIDATION_D50_MM.iter().map(|&d| ValidationCase::Recipe(d)))
             .collect()
     }
 
@@ -713,6 +721,7 @@ impl ValidationCase {
     fn seconds(self) -> f64 {
         match self {
             ValidationCase::Current(_, t) => t,
+            ValidationCase::Recipe(_) => RECIPE_SECONDS,
             ValidationCase::Wave(_, t) => t,
             ValidationCase::Angle(_) => VALIDATION_SECONDS[0],
         }
@@ -721,6 +730,7 @@ impl ValidationCase {
     fn name(self) -> String {
         match self {
             ValidationCase::Current(d, t) => format!("current d50 {d} mm {t} s"),
+            ValidationCase::Recipe(d) => format!("recipe d50 {d} mm {RECIPE_SECONDS} s"),
             ValidationCase::Wave(d, t) => format!("wave d0 {d} m {t} s"),
             ValidationCase::Angle(a) => format!("current angle {a} deg"),
         }
@@ -731,7 +741,8 @@ impl ValidationCase {
     /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
     /// narrow strip along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
     /// long-crested), with 200 automata per column, the lee vortex and the command line's
-    /// sorting.
+    /// sorting; the recipe on a 2-D section of 256 bins (1.28 m) with 200 automata per column
+    /// (10 cm of sand), at the command line's 0.5 m/s.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
         let base = RippleParams {
             layers: 20,
@@ -765,6 +776,15 @@ impl ValidationCase {
                 current_angle: a,
                 frame: super::Frame::Grid,
                 ..base
+            },
+            ValidationCase::Recipe(d50) => RippleParams {
+                mode: super::Mode::TwoD,
+                nx: 256,
+                ny: 1,
+                layers: 200,
+                d50,
+                seed,
+                ..super::recipe::Recipe::MatureCurrent.params()
             },
         })
     }
@@ -810,9 +830,10 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 }
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
-/// grain sizes after 300 s and 1800 s of flow, wave ripples (with the lee vortex, on narrow strips
-/// with 10 cm of sand) for three orbital diameters after 16,000 s and 32,000 s, and the crest
-/// normal for current angles 0-180 deg after 300 s, 3 seeds each
+/// grain sizes after 300 s and 1800 s of flow, and under the opt-in recipe for mature current
+/// ripples after 3000 s, wave ripples (with the lee vortex, on narrow strips with 10 cm of sand)
+/// for three orbital diameters after 16,000 s and 32,000 s, and the crest normal for current
+/// angles 0-180 deg after 300 s, 3 seeds each
 /// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).
 pub struct ValidationStudy;
 
@@ -926,6 +947,21 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             .collect()
     };
     let [t1, t2] = VALIDATION_SECONDS;
+    let recipe = |f: &dyn Fn(&ValidationRecord) -> f64, scale: f64| -> Vec<(f64, f64)> {
+        d50.iter()
+            .map(|&d| {
+                let (m, se) = stat(ValidationCase::Recipe(d), f);
+                (scale * m, scale * se)
+            })
+            .collect()
+    };
+    // the recipe's standard errors stay out of the legends (the bars are drawn alike)
+    let recipe_series = |label: String, ms: &[(f64, f64)]| {
+        let [mean, mut se] = model_series(&label, &d50, ms);
+        se.label.clear();
+        [mean, se]
+    };
+    let recipe_label = format!("opt-in recipe, 2-D 1.28 m, {RECIPE_SECONDS} s");
     let mut wl = model_series(
         &format!("model, {t1} s"),
         &d50,
@@ -943,6 +979,10 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         y: sw.iter().map(|p| 100.0 * p.0).collect(),
         points: false,
     });
+    wl.extend(recipe_series(
+        recipe_label.clone(),
+        &recipe(&|r| r.wavelength_m, 100.0),
+    ));
     let mut ht = model_series(&format!("model, {t1} s"), &d50, &cur(t1, &|r| r.height_m)).to_vec();
     ht.extend(model_series(
         &format!("model, {t2} s"),
@@ -955,6 +995,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         y: sw.iter().map(|p| 100.0 * p.1).collect(),
         points: false,
     });
+    ht.extend(recipe_series(recipe_label, &recipe(&|r| r.height_m, 100.0)));
     let d0: Vec<f64> = VALIDATION_D0_M.iter().map(|d| 100.0 * d).collect();
     let [w1, w2] = VALIDATION_WAVE_SECONDS;
     let waves = |t: f64| -> Vec<(f64, f64)> {
@@ -1037,6 +1078,14 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         y: vec![2.0, 2.0],
         points: false,
     });
+    cur_shape.extend(recipe_series(
+        format!("recipe, {RECIPE_SECONDS} s: ripple index"),
+        &recipe(&|r| r.ripple_index, 1.0),
+    ));
+    cur_shape.extend(recipe_series(
+        format!("recipe, {RECIPE_SECONDS} s: symmetry index"),
+        &recipe(&|r| r.symmetry_index, 1.0),
+    ));
     let mut wave_shape = shape(&|d| ValidationCase::Wave(d, w2), &VALIDATION_D0_M, &d0);
     wave_shape.push(Series {
         label: "Wiberg & Harris (1994), orbital: ripple index".into(),

@@ -17,6 +17,8 @@
 //! - [`equilibrium`]: running until the field is mature ([`equilibrium::run_until_mature`]).
 //! - [`predictors`]: the ripple that Soulsby & Whitehouse (2005) or Wiberg & Harris (1994)
 //!   expect for a run, as a check ([`predictors::Prediction`]).
+//! - [`recipe`]: built-in scenario files of opt-in rules ([`recipe::Recipe`]: current
+//!   ripples that stop growing).
 //! - [`waves`]: near-bed orbital velocity of surface waves by linear wave theory
 //!   ([`waves::SurfaceWave`]).
 //! - [`regime`]: the flow regime of a run (no motion, ripples, sheet flow) from the Shields
@@ -59,6 +61,7 @@ pub mod morphometry;
 pub mod output;
 pub mod params;
 pub mod predictors;
+pub mod recipe;
 pub mod regime;
 pub mod rules;
 pub mod spectrum;
