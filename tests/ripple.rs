@@ -1217,7 +1217,7 @@ fn analyses_at(p: &RippleParams, times: &[f64]) -> Vec<Analysis> {
 /// (1.28 m, seed 1): 16.0 cm at both times, 1.35 / 1.37 cm high, lee 29.2 deg, ripple index
 /// 11.7, and 16.1 with the exponent 2 (on 2.56 m, seeds 1-2: 17.1 / 16.0 cm at 6000 s, 17.2 /
 /// 17.1 cm at 96,000 s). The bounds: at most one ripple fewer on the section (lengths are
-/// 128 / k cm), the height within 10 %, lee at least 27 deg (the avalanche angle is 32), ripple
+/// 128 / k cm, neither coarsening nor splitting by more), the height within 10 %, lee at least 27 deg (the avalanche angle is 32), ripple
 /// index at most 13; with the exponent 2, a ripple index above the exponent 8's by at least 2.
 #[test]
 fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
@@ -1233,7 +1233,10 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
         late.ripple_index
     );
     let ripples = |a: &Analysis| (1.28 / a.wavelength_m).round();
-    assert!(ripples(late) >= ripples(early) - 1.0, "{early:?} {late:?}");
+    assert!(
+        (ripples(late) - ripples(early)).abs() <= 1.0,
+        "{early:?} {late:?}"
+    );
     assert!(
         (late.height_m / early.height_m - 1.0).abs() < 0.1,
         "{early:?} {late:?}"
@@ -1255,10 +1258,11 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
 /// a crest that rises above `L` over the bed's mean level sheds its grains, so the height
 /// (crest to trough) stays near `2 L`, and a longer `L` gives higher ripples. Measured (the
 /// recipe on 1.28 m, 0.2 mm sand, 6000 s, seeds 1 / 2): `L` = 30 d50 (6 mm): 1.19 / 1.19 cm,
-/// `H / 2L` 0.99 / 0.99; `L` = 60 d50 (12 mm): 1.76 / 1.90 cm, 0.73 / 0.79 (every variant of
-/// the docs' screen: 0.67-1.0). The bounds: `H / 2L` in [0.6, 1.05], around the screen's range
-/// (a crest 5 % above `L` sheds every grain the flow moves from it: 1.05^8 > 1), and the
-/// height with the longer `L` at least 1.3 times the shorter's (measured 1.5-1.6).
+/// `H / 2L` 0.99 / 0.99; `L` = 60 d50 (12 mm): 1.76 / 1.90 cm, 0.73 / 0.79 (the docs' screen
+/// with the exponent 8: 0.67-1.04). The bounds are empirical: `H / 2L` in [0.6, 1.1], around
+/// the screen's range (the rule bounds the crest's rise above the mean level, not the trough's
+/// depth, so `H / 2L` can pass 1), and the height with the longer `L` at least 1.3 times the
+/// shorter's (measured 1.5-1.6).
 #[test]
 fn crest_suspension_sets_the_crest_height() {
     let height = |f: f64| {
@@ -1270,7 +1274,7 @@ fn crest_suspension_sets_the_crest_height() {
             a[0].height_m / (2.0 * l)
         );
         assert!(
-            (0.6..=1.05).contains(&(a[0].height_m / (2.0 * l))),
+            (0.6..=1.1).contains(&(a[0].height_m / (2.0 * l))),
             "L = {f} d50: {:?}",
             a[0]
         );

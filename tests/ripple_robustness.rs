@@ -432,9 +432,16 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
         "{e}"
     );
     // the default snapshots (start and end) were not asked for: the end is the stop, no note
-    let o = cellsurf(&until);
+    let quiet_out = tmp("eq_default.npy");
+    let o = cellsurf(&[&until[..], &["--out", quiet_out.to_str().unwrap()]].concat());
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && !e.contains("were not reached"), "{e}");
+    // (and the end written is the bed where it stopped)
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp("eq_default.json")).unwrap()).unwrap();
+    let stop = side["stop_step"].as_u64().unwrap();
+    assert!(stop < 64000, "{side}");
+    assert_eq!(side["elevation_times"], serde_json::json!([0, stop]));
     // the scenario keeps `until`
     let o = cellsurf(&["ripple", "--until", "equilibrium", "--print-scenario"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("until = \"equilibrium\""));
