@@ -283,7 +283,7 @@ fn ripple_md(s: &Study, e: &Study) -> Vec<String> {
         // charts, 6 (ripple index) and 8 (symmetry index) of the current shape chart
         let case = format!("current, d50 = {d50} mm, the recipe");
         let Some(r) = c.row(&format!(
-            "| current 0.5 m/s, d50 = {d50} mm, the recipe, 3000 s |"
+            "| current 0.5 m/s, d50 = {d50} mm, the recipe, 6000 s |"
         )) else {
             continue;
         };

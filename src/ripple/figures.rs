@@ -679,10 +679,14 @@ const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
 /// the troughs of the vortex ripples (about 4 cm high) stay off the substrate.
 const VALIDATION_WAVE_LAYERS: usize = 200;
 
-/// Simulated seconds of the recipe's runs: on its 1.28 m sections the lengths are then near
-/// those of 2.56 m sections after 24,000 s (12.2 / 16.0 / 27.2 cm against 12.5 / 17.3 / 26.5
-/// cm at 0.1 / 0.2 / 0.4 mm), though most of these sections pass `--until equilibrium` later.
-const RECIPE_SECONDS: f64 = 3000.0;
+/// Simulated seconds of the recipe's runs: its 2.56 m sections of 0.2 mm sand have their
+/// length of 96,000 s by then (17.1 / 16.0 cm at 6000 s, 17.2 / 17.1 cm at 96,000 s, seeds
+/// 1 / 2), and `--until equilibrium` stops them earlier (740-1617 s).
+const RECIPE_SECONDS: f64 = 6000.0;
+
+/// Columns of the recipe's 2-D sections: 512 bins of 5 mm, 2.56 m (ripples of 12-27 cm come
+/// in steps of 256 / k cm, 2-7 % apart).
+const RECIPE_NX: usize = 512;
 
 /// One case of the validation study: current ripples of a grain size (with the paper's rules,
 /// the default, or with the opt-in recipe), wave ripples of an orbital diameter, or a current
@@ -742,8 +746,8 @@ impl ValidationCase {
     /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
     /// narrow strip along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
     /// long-crested), with 200 automata per column, the lee vortex and the command line's
-    /// sorting; the recipe on a 2-D section of 256 bins (1.28 m) with 200 automata per column
-    /// (10 cm of sand), at the command line's 0.5 m/s.
+    /// sorting; the recipe on a 2-D section of [`RECIPE_NX`] bins (2.56 m) with 200 automata per
+    /// column (10 cm of sand), at the command line's 0.5 m/s.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
         let base = RippleParams {
             layers: 20,
@@ -780,7 +784,7 @@ impl ValidationCase {
             },
             ValidationCase::Recipe(d50) => RippleParams {
                 mode: super::Mode::TwoD,
-                nx: 256,
+                nx: RECIPE_NX,
                 ny: 1,
                 layers: 200,
                 d50,
@@ -962,15 +966,15 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         se.label.clear();
         [mean, se]
     };
-    let recipe_label = format!("opt-in recipe, 2-D 1.28 m, {RECIPE_SECONDS} s");
+    let recipe_label = format!("opt-in recipe, 2-D 2.56 m, {RECIPE_SECONDS} s");
     let mut wl = model_series(
-        &format!("model, {t1} s"),
+        &format!("model, 96 x 24 cm, {t1} s"),
         &d50,
         &cur(t1, &|r| r.wavelength_m),
     )
     .to_vec();
     wl.extend(model_series(
-        &format!("model, {t2} s"),
+        &format!("model, 96 x 24 cm, {t2} s"),
         &d50,
         &cur(t2, &|r| r.wavelength_m),
     ));
@@ -984,9 +988,14 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         recipe_label.clone(),
         &recipe(&|r| r.wavelength_m, 100.0),
     ));
-    let mut ht = model_series(&format!("model, {t1} s"), &d50, &cur(t1, &|r| r.height_m)).to_vec();
+    let mut ht = model_series(
+        &format!("model, 96 x 24 cm, {t1} s"),
+        &d50,
+        &cur(t1, &|r| r.height_m),
+    )
+    .to_vec();
     ht.extend(model_series(
-        &format!("model, {t2} s"),
+        &format!("model, 96 x 24 cm, {t2} s"),
         &d50,
         &cur(t2, &|r| r.height_m),
     ));
@@ -1108,7 +1117,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
     });
     let charts = vec![
         Chart {
-            title: "current ripples (0.5 m/s, 96 x 24 cm): wavelength".into(),
+            title: "current ripples (0.5 m/s): wavelength".into(),
             x_label: "d50 (mm)".into(),
             y_label: "wavelength (cm)".into(),
             series: wl,
@@ -1116,7 +1125,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: "current ripples (0.5 m/s, 96 x 24 cm): height".into(),
+            title: "current ripples (0.5 m/s): height".into(),
             x_label: "d50 (mm)".into(),
             y_label: "height (cm)".into(),
             series: ht,
@@ -1140,7 +1149,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
             log_y: false,
         },
         Chart {
-            title: format!("current ripples ({t2} s): ripple index and symmetry index"),
+            title: format!("current ripples ({t2} s): ripple and symmetry index"),
             x_label: "d50 (mm)".into(),
             y_label: "ripple index, symmetry index".into(),
             series: cur_shape,
