@@ -176,12 +176,11 @@ pub fn draw_study(
     let name = study.figure();
     let f = find(&name).ok_or_else(|| FigureError::Model(format!("no figure {name}")))?;
     // (every PNG records `figure = "NAME"`, as `Figure::make` has it)
-    crate::plot::set_png_parameters(Some(format!("figure = \"{}\"", f.name)));
-    let made = measured(f, dir, || {
-        study.draw(records, dir).map_err(FigureError::Model)
-    });
-    crate::plot::set_png_parameters(None);
-    made
+    crate::plot::with_png_parameters(Some(format!("figure = \"{}\"", f.name)), || {
+        measured(f, dir, || {
+            study.draw(records, dir).map_err(FigureError::Model)
+        })
+    })
 }
 
 /// Runs `make` (which draws the measured figure `f` into `dir`) recording its charts, and

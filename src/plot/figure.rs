@@ -47,10 +47,9 @@ impl Figure {
     /// Every PNG records `figure = "NAME"` unless the figure records its own scenario.
     pub fn make(&self, dir: &Path) -> Result<Vec<PathBuf>, FigureError> {
         std::fs::create_dir_all(dir).map_err(PlotError::Io)?;
-        super::set_png_parameters(Some(format!("figure = \"{}\"", self.name)));
-        let r = (self.make)(dir);
-        super::set_png_parameters(None);
-        r
+        super::with_png_parameters(Some(format!("figure = \"{}\"", self.name)), || {
+            (self.make)(dir)
+        })
     }
 }
 

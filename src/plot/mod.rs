@@ -158,6 +158,16 @@ pub fn set_png_parameters(text: Option<String>) {
     PNG_PARAMETERS.with(|m| *m.borrow_mut() = text);
 }
 
+/// Runs `f` with `text` as the parameters text of the PNGs this thread writes
+/// ([`set_png_parameters`]), then restores the text in force before.
+pub fn with_png_parameters<T>(text: Option<String>, f: impl FnOnce() -> T) -> T {
+    let before = png_parameters();
+    set_png_parameters(text);
+    let r = f();
+    set_png_parameters(before);
+    r
+}
+
 /// The parameters text in force on this thread ([`set_png_parameters`]).
 pub fn png_parameters() -> Option<String> {
     PNG_PARAMETERS.with(|m| m.borrow().clone())

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::charts::{Chart, ChartTable, Series, line_charts};
-use super::{PlotError, png_parameters, set_png_parameters};
+use super::{PlotError, with_png_parameters};
 
 /// The TOML side of a table: all but the points.
 #[derive(Serialize, Deserialize)]
@@ -188,11 +188,9 @@ impl ChartTable {
 
     /// Draws the table into `path` (the same PNG as the run that measured it).
     pub fn draw(&self, path: &Path) -> Result<(), PlotError> {
-        let before = png_parameters();
-        set_png_parameters(self.png_parameters.clone());
-        let r = line_charts(path, &self.title, &self.charts, self.cols, self.chart_px);
-        set_png_parameters(before);
-        r
+        with_png_parameters(self.png_parameters.clone(), || {
+            line_charts(path, &self.title, &self.charts, self.cols, self.chart_px)
+        })
     }
 }
 
