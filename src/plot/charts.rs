@@ -55,9 +55,10 @@ const MIN_CHART_PX: u32 = 64;
 /// writes the PNG to `path` atomically.
 ///
 /// Each chart has a mesh, axis labels, a caption, and a legend of the labelled series placed in
-/// the corner with the fewest data points. Axis ranges cover the finite (and, on log axes,
-/// positive) data with a 5% margin (a decade's fraction on log axes); a chart without usable
-/// data gets a default range `0..1` (`1..10` on log axes). Series with `points` get a filled
+/// a corner where it covers no marker or line; where every corner holds data, the y range is
+/// stretched upwards (at most twice) to free an upper corner. Axis ranges cover the finite
+/// (and, on log axes, positive) data with a 5% margin (a decade's fraction on log axes); a
+/// chart without usable data gets a default range `0..1` (`1..10` on log axes). Series with `points` get a filled
 /// circle at every point.
 ///
 /// # Errors
@@ -191,13 +192,32 @@ fn axis_range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
-/// Picks the legend corner holding the fewest data points (in axis-normalised coordinates).
-fn legend_corner(
+/// The four legend corners, in order of preference: (position, is right, is upper).
+const CORNERS: [(SeriesLabelPosition, bool, bool); 4] = [
+    (SeriesLabelPosition::UpperRight, true, true),
+    (SeriesLabelPosition::UpperLeft, false, true),
+    (SeriesLabelPosition::LowerRight, true, false),
+    (SeriesLabelPosition::LowerLeft, false, false),
+];
+
+/// Most a y range is stretched to free room for the legend above the data (the data then
+/// fill at least half the chart's height); beyond it the legend covers the fewest data.
+const MAX_STRETCH: f64 = 2.0;
+
+/// Where a chart's legend goes: a corner it covers no data in, else the y range stretched
+/// upwards (at most [`MAX_STRETCH`] times) so that the data pass under an upper corner, else
+/// the corner covering the fewest data. The data are the series' markers and their lines
+/// (sampled every few pixels), in pixels of the plotting area `plot` (width, height); the
+/// legend is `legend` pixels (width, height) and sits 5 pixels inside the corner, as
+/// plotters draws it.
+fn place_legend(
     segs: &[Vec<(f64, f64)>],
     x: (f64, f64),
     y: (f64, f64),
     chart: &Chart,
-) -> SeriesLabelPosition {
+    plot: (f64, f64),
+    legend: (f64, f64),
+) -> (SeriesLabelPosition, (f64, f64)) {
     let norm = |v: f64, (a, b): (f64, f64), log: bool| {
         if log {
             (v.log10() - a.log10()) / (b.log10() - a.log10())
@@ -205,26 +225,78 @@ fn legend_corner(
             (v - a) / (b - a)
         }
     };
-    // (position, is right, is upper); ties keep this order of preference.
-    let corners = [
-        (SeriesLabelPosition::UpperRight, true, true),
-        (SeriesLabelPosition::UpperLeft, false, true),
-        (SeriesLabelPosition::LowerRight, true, false),
-        (SeriesLabelPosition::LowerLeft, false, false),
-    ];
-    let mut counts = [0usize; 4];
-    for &(px, py) in segs.iter().flatten() {
-        let (u, v) = (norm(px, x, chart.log_x), norm(py, y, chart.log_y));
-        for (k, &(_, right, upper)) in corners.iter().enumerate() {
-            let in_x = if right { u > 0.55 } else { u < 0.45 };
-            let in_y = if upper { v > 0.6 } else { v < 0.4 };
-            if in_x && in_y {
-                counts[k] += 1;
-            }
+    let (pw, ph) = plot;
+    let (lw, lh) = legend;
+    // (u, v): the data in axis-normalised coordinates (v up), points and line samples.
+    let mut samples: Vec<(f64, f64)> = Vec::new();
+    for run in segs {
+        let uv: Vec<(f64, f64)> = run
+            .iter()
+            .map(|&(px, py)| (norm(px, x, chart.log_x), norm(py, y, chart.log_y)))
+            .collect();
+        samples.extend(uv.iter().copied());
+        for w in uv.windows(2) {
+            let (du, dv) = ((w[1].0 - w[0].0) * pw, (w[1].1 - w[0].1) * ph);
+            let n = (du.hypot(dv) / 3.0).ceil().min(1e4) as usize;
+            samples.extend((1..n).map(|i| {
+                let t = i as f64 / n as f64;
+                (
+                    w[0].0 + t * (w[1].0 - w[0].0),
+                    w[0].1 + t * (w[1].1 - w[0].1),
+                )
+            }));
+        }
+    }
+    // The legend's box in normalised coordinates, with 3 pixels to spare around it.
+    let span_x = |right: bool| {
+        let (a, b) = if right {
+            (pw - 5.0 - lw - 3.0, pw)
+        } else {
+            (0.0, 5.0 + lw + 3.0)
+        };
+        (a / pw, b / pw)
+    };
+    let top = 1.0 - (5.0 + lh + 3.0) / ph;
+    let bottom = (5.0 + lh + 3.0) / ph;
+    let covered = |right: bool, upper: bool| {
+        let (u0, u1) = span_x(right);
+        samples
+            .iter()
+            .filter(|&&(u, v)| u >= u0 && u <= u1 && if upper { v >= top } else { v <= bottom })
+            .count()
+    };
+    let counts: Vec<usize> = CORNERS.iter().map(|c| covered(c.1, c.2)).collect();
+    if let Some(k) = (0..4).find(|&k| counts[k] == 0) {
+        return (CORNERS[k].0.clone(), y);
+    }
+    // Stretch the range upwards so the highest datum under an upper corner's box falls below
+    // it: on the normalised scale, v' = v / stretch.
+    let stretch = |right: bool| {
+        let (u0, u1) = span_x(right);
+        let vmax = samples
+            .iter()
+            .filter(|&&(u, _)| u >= u0 && u <= u1)
+            .map(|&(_, v)| v)
+            .fold(0.0, f64::max);
+        (vmax / top).max(1.0)
+    };
+    if top > 0.0 {
+        let (k, s) = [0, 1]
+            .into_iter()
+            .map(|k| (k, stretch(CORNERS[k].1)))
+            .fold((0, f64::INFINITY), |b, c| if c.1 < b.1 { c } else { b });
+        if s <= MAX_STRETCH {
+            let y = if chart.log_y {
+                let (a, b) = (y.0.log10(), y.1.log10());
+                (y.0, 10f64.powf(a + (b - a) * s))
+            } else {
+                (y.0, y.0 + (y.1 - y.0) * s)
+            };
+            return (CORNERS[k].0.clone(), y);
         }
     }
     let best = (0..4).min_by_key(|&k| counts[k]).unwrap_or(0);
-    corners[best].0.clone()
+    (CORNERS[best].0.clone(), y)
 }
 
 /// Computes ranges and dispatches to [`draw_chart`] with linear or log axis types.
@@ -244,20 +316,56 @@ fn draw_chart_any<DB: DrawingBackend>(
     let (w, h) = area.dim_in_pixel();
     let n_y = (h / 30).clamp(4, 12) as usize;
     // Widest y tick label, to size the label area (plotters' ticks are close to these).
-    let y_ticks = if chart.log_y {
-        log_ticks(yr.0, yr.1, n_y)
-    } else {
-        linear_ticks(yr.0, yr.1, n_y)
-    };
-    let plan = Plan {
-        corner: legend_corner(&flat, xr, yr, chart),
-        n_x: (w / 45).clamp(4, 12) as usize,
-        n_y,
-        y_chars: y_ticks
+    let y_chars = |yr: (f64, f64)| {
+        let ticks = if chart.log_y {
+            log_ticks(yr.0, yr.1, n_y)
+        } else {
+            linear_ticks(yr.0, yr.1, n_y)
+        };
+        ticks
             .iter()
             .map(|&v| format_tick(v).chars().count())
             .max()
-            .unwrap_or(1),
+            .unwrap_or(1)
+    };
+    let caption_font = (f64::from(h) / 20.0).clamp(11.0, 26.0);
+    let label_font = (caption_font * 0.72).max(10.0);
+    // The plotting area as plotters lays it out (margins of 8 pixels, the caption with its
+    // padding, the label areas of [`draw_chart`]) and the legend's size, to place it.
+    let caption_h = if chart.title.is_empty() {
+        0.0
+    } else {
+        let (_, th) = area
+            .estimate_text_size(&chart.title, &TextStyle::from(("sans-serif", caption_font)))
+            .map_err(PlotError::drawing)?;
+        f64::from(th + 2 * (th / 2).min(5))
+    };
+    let plot = (
+        f64::from(w) - 16.0 - (label_font * (0.62 * y_chars(yr) as f64 + 2.6)).floor(),
+        f64::from(h) - 16.0 - caption_h - (label_font * 3.2).floor(),
+    );
+    let font = TextStyle::from(("sans-serif", label_font));
+    let mut text = MultiLineText::<_, &str>::new((0, 0), &font);
+    for s in chart.series.iter().filter(|s| !s.label.is_empty()) {
+        text.push_line(s.label.as_str());
+    }
+    let (tw, th) = text
+        .estimate_dimension()
+        .map_err(|e| PlotError::drawing(format!("{e:?}")))?;
+    // plotters' legend: its text, a 30-pixel key and 10-pixel margins all round.
+    let legend = (f64::from(tw) + 30.0 + 20.0, f64::from(th) + 20.0);
+    let (corner, yr) = if plot.0 > 0.0 && plot.1 > 0.0 {
+        place_legend(&flat, xr, yr, chart, plot, legend)
+    } else {
+        (CORNERS[0].0.clone(), yr)
+    };
+    let plan = Plan {
+        corner,
+        n_x: (w / 45).clamp(4, 12) as usize,
+        n_y,
+        y_chars: y_chars(yr),
+        label_font,
+        caption_font,
     };
     let (x, y) = ((xr.0..xr.1), (yr.0..yr.1));
     let (lx, ly) = (LogAxis::new(xr), LogAxis::new(yr));
@@ -279,6 +387,10 @@ struct Plan {
     n_y: usize,
     /// Characters in the widest y tick label.
     y_chars: usize,
+    /// Font size of tick labels, axis descriptions and the legend, pixels.
+    label_font: f64,
+    /// Font size of the caption, pixels.
+    caption_font: f64,
 }
 
 /// Draws one chart with the given axis specifications.
@@ -297,9 +409,7 @@ where
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
-    let (_, h) = area.dim_in_pixel();
-    let caption_font = (f64::from(h) / 20.0).clamp(11.0, 26.0);
-    let label_font = (caption_font * 0.72).max(10.0);
+    let (caption_font, label_font) = (plan.caption_font, plan.label_font);
     let mut builder = ChartBuilder::on(area);
     builder
         .margin(8)
@@ -550,6 +660,61 @@ mod unit {
         assert!((b - a).is_finite() && b > a);
         let (a, b) = axis_range([5.0].into_iter(), true);
         assert!(a > 0.0 && a < 5.0 && b > 5.0);
+    }
+
+    /// Runs of points and a chart's x and y ranges.
+    type Laid = (Vec<Vec<(f64, f64)>>, (f64, f64), (f64, f64));
+
+    /// The runs of `series` (x, y) and their padded ranges, as [`draw_chart_any`] has them.
+    fn laid_out(series: &[(&[f64], &[f64])]) -> Laid {
+        let segs: Vec<Vec<(f64, f64)>> = series
+            .iter()
+            .map(|(x, y)| x.iter().copied().zip(y.iter().copied()).collect())
+            .collect();
+        let xr = axis_range(segs.iter().flatten().map(|p| p.0), false);
+        let yr = axis_range(segs.iter().flatten().map(|p| p.1), false);
+        (segs, xr, yr)
+    }
+
+    #[test]
+    fn the_legend_takes_a_free_corner() {
+        let x = [0.0, 1.0, 2.0, 3.0, 4.0];
+        let down = [4.0, 3.0, 2.0, 1.0, 0.0];
+        // A rising diagonal fills the upper right and lower left corners; a falling one
+        // leaves the upper right free, which is preferred.
+        for (y, want) in [
+            (x, SeriesLabelPosition::UpperLeft),
+            (down, SeriesLabelPosition::UpperRight),
+        ] {
+            let (segs, xr, yr) = laid_out(&[(&x, &y)]);
+            let chart = Chart::default();
+            let got = place_legend(&segs, xr, yr, &chart, (400.0, 300.0), (120.0, 60.0));
+            assert_eq!(got, (want, yr));
+        }
+    }
+
+    #[test]
+    fn the_legend_stretches_the_range_when_every_corner_holds_data() {
+        // Lines along the top and the bottom: no corner is free.
+        let x = [0.0, 10.0];
+        let (segs, xr, yr) = laid_out(&[(&x, &[1.0, 1.0]), (&x, &[0.0, 0.0])]);
+        let chart = Chart::default();
+        let (plot, legend) = ((400.0, 300.0), (120.0, 60.0));
+        let (c, y) = place_legend(&segs, xr, yr, &chart, plot, legend);
+        assert_eq!(c, SeriesLabelPosition::UpperRight);
+        assert_eq!(y.0, yr.0);
+        assert!(
+            y.1 > yr.1 && y.1 - y.0 <= MAX_STRETCH * (yr.1 - yr.0),
+            "{y:?} {yr:?}"
+        );
+        // On the stretched range the top line passes under the legend (5 px inset, 3 px
+        // spare), and placing again finds that corner free, without stretching further.
+        let v = (1.0 - y.0) / (y.1 - y.0);
+        assert!((1.0 - v) * plot.1 >= 5.0 + legend.1 + 3.0 - 1e-9, "{v}");
+        assert_eq!(place_legend(&segs, xr, y, &chart, plot, legend), (c, y));
+        // A legend taller than the chart allows: no stretch, the corner covering least.
+        let (_, y) = place_legend(&segs, xr, yr, &chart, plot, (120.0, 200.0));
+        assert_eq!(y, yr);
     }
 }
 
