@@ -1102,6 +1102,39 @@ fn conservation_and_no_slope_above_alpha_with_crest_suspension() {
     assert!(r.stats().suspended > 0);
 }
 
+/// Crest suspension in flat-bed travels (`crest_suspension_hops = k`) is crest suspension at
+/// `L = k x hop x (theta / theta_cr - 1)`, the median grain's mean travel on a flat bed in the
+/// run's current (0.5 travels of 0.2 mm sand at 0.5 m/s: 0.5 x 0.94 mm x 2.64 = 1.24 mm), for
+/// every grain class: the run gives the same bed, step for step, as the same rules with that
+/// `L` in metres (`crest_suspension`), and it does shed grains.
+#[test]
+fn crest_suspension_in_travels_is_crest_suspension_at_the_median_grains_travel() {
+    let base = RippleParams {
+        mode: Mode::TwoD,
+        nx: 128,
+        ny: 1,
+        hop_grains: 4.6875,
+        ..small()
+    };
+    let hops = RippleParams {
+        crest_suspension_hops: 0.5,
+        ..base.clone()
+    };
+    let l = 0.5 * cellsurf::ripple::clock::median_travel(&hops, base.current_speed);
+    assert!((l - 1.24e-3).abs() < 0.01e-3, "{l}");
+    let fixed = RippleParams {
+        crest_suspension: l,
+        ..base
+    };
+    let (mut a, mut b) = (Ripple::new(&hops).unwrap(), Ripple::new(&fixed).unwrap());
+    assert!(a.classes().len() > 1);
+    a.run(400, |_| {});
+    b.run(400, |_| {});
+    assert!(a.stats().suspended > 0, "{:?}", a.stats());
+    assert_eq!(a.stats().suspended, b.stats().suspended);
+    assert_eq!(a.volume().heights(), b.volume().heights());
+}
+
 /// The leading bed stress and flow separation (`stress_lead`, `separation_angle`, opt-in)
 /// conserve the mass and keep every slope within alpha.
 #[test]
@@ -1171,24 +1204,29 @@ fn flow_separation_stops_and_the_leading_stress_restarts_the_instability() {
     );
 }
 
-/// The analysis of a 2-D section of 1.28 m (0.2 mm sand, 0.5 m/s, 10 cm of sand) under the
-/// recipe for mature current ripples (`docs/ripple_mature_current.toml`; docs/ripple.md, "A
-/// recipe for mature current ripples"), after each of `times` seconds of flow, one run
-/// continued; `vary` changes the recipe's factors first.
+/// The analysis of a 2-D section of 1.28 m (0.2 mm sand, 0.5 m/s, 10 cm of sand in the
+/// recipe's bins of 2.5 mm) under the recipe for mature current ripples
+/// (`docs/ripple_mature_current.toml`; docs/ripple.md, "A recipe for mature current
+/// ripples"), after each of `times` seconds of flow, one run continued; `vary` changes the
+/// recipe's factors first.
 fn recipe_section(seed: u64, vary: impl Fn(&mut RippleParams), times: &[f64]) -> Vec<Analysis> {
     let dir = env!("CARGO_MANIFEST_DIR");
     let text = std::fs::read_to_string(format!("{dir}/docs/ripple_mature_current.toml")).unwrap();
     let recipe = RippleParams::from_toml(&text).unwrap();
     assert_eq!(
-        (recipe.suspension_exponent, recipe.crest_suspension_grains),
-        (8.0, 40.0),
+        (
+            recipe.suspension_exponent,
+            recipe.crest_suspension_hops,
+            recipe.bin_size,
+            recipe.layers
+        ),
+        (8.0, 4.3, 0.0025, 400),
         "the recipe the docs measure"
     );
     let mut p = RippleParams {
         mode: Mode::TwoD,
-        nx: 256,
+        nx: 512,
         ny: 1,
-        layers: 200,
         seed,
         ..recipe
     };
@@ -1214,12 +1252,14 @@ fn analyses_at(p: &RippleParams, times: &[f64]) -> Vec<Analysis> {
 /// The recipe for mature current ripples holds its length and height from 6000 s to 24,000 s
 /// with slip faces at the angle of repose and a ripple index near nature's; with crest
 /// suspension's default exponent (2) in place of 8 the same section is flatter. Measured
-/// (1.28 m, seed 1): 16.0 cm at both times, 1.35 / 1.37 cm high, lee 29.2 deg, ripple index
-/// 11.7, and 16.1 with the exponent 2 (on 2.56 m, seeds 1-2: 17.1 / 16.0 cm at 6000 s, 17.2 /
-/// 17.1 cm at 96,000 s). The bounds: at most one ripple fewer on the section (lengths are
-/// 128 / k cm, neither coarsening nor splitting by more), the height within 10 %, lee at least 27 deg (the avalanche angle is 32), ripple
-/// index at most 13; with the exponent 2, a ripple index above the exponent 8's by at least 2.
+/// (1.28 m, 0.2 mm, seed 1): 16.0 cm at both times, 1.63 / 1.60 cm high, lee 30.5 deg,
+/// ripple index 10.0, and 12.2 with the exponent 2 (on 2.56 m, seed 1: 16.0 cm at 6000 s and
+/// at 24,000 s). The bounds: at most one ripple fewer or more on the section (lengths are
+/// 128 / k cm, neither coarsening nor splitting by more), the height within 10 %, lee at
+/// least 27 deg (the avalanche angle is 32), ripple index at most 12; with the exponent 2, a
+/// ripple index above the exponent 8's by at least 1.5.
 #[test]
+#[ignore = "long: 1.28 m in 2.5 mm bins to 24,000 s, twice (about 5 minutes in release)"]
 fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
     let a = recipe_section(1, |_| {}, &[6000.0, 24_000.0]);
     let (early, late) = (&a[0], &a[1]);
@@ -1242,13 +1282,13 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
         "{early:?} {late:?}"
     );
     assert!(
-        late.lee_slope_deg >= 27.0 && late.ripple_index <= 13.0,
+        late.lee_slope_deg >= 27.0 && late.ripple_index <= 12.0,
         "{late:?}"
     );
     let square = recipe_section(1, |p| p.suspension_exponent = 2.0, &[24_000.0]);
     eprintln!("exponent 2: ripple index {:.1}", square[0].ripple_index);
     assert!(
-        square[0].ripple_index >= late.ripple_index + 2.0,
+        square[0].ripple_index >= late.ripple_index + 1.5,
         "{:?}",
         square[0]
     );
@@ -1257,7 +1297,8 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
 /// Crest suspension's length sets the crests' height: with the sharp threshold of the recipe
 /// a crest that rises above `L` over the bed's mean level sheds its grains, so the height
 /// (crest to trough) stays near `2 L`, and a longer `L` gives higher ripples. Measured (the
-/// recipe on 1.28 m, 0.2 mm sand, 6000 s, seeds 1 / 2): `L` = 30 d50 (6 mm): 1.19 / 1.19 cm,
+/// recipe's rules with `L` in grain diameters, in 5 mm bins to keep the test short, on
+/// 1.28 m, 0.2 mm sand, 6000 s, seeds 1 / 2): `L` = 30 d50 (6 mm): 1.19 / 1.19 cm,
 /// `H / 2L` 0.99 / 0.99; `L` = 60 d50 (12 mm): 1.76 / 1.90 cm, 0.73 / 0.79 (the docs' screen
 /// with the exponent 8: 0.67-1.04). The bounds are empirical: `H / 2L` in [0.6, 1.1], around
 /// the screen's range (the rule bounds the crest's rise above the mean level, not the trough's
@@ -1266,7 +1307,12 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
 #[test]
 fn crest_suspension_sets_the_crest_height() {
     let height = |f: f64| {
-        let a = recipe_section(1, |p| p.crest_suspension_grains = f, &[6000.0]);
+        let in_grains = |p: &mut RippleParams| {
+            p.crest_suspension_hops = 0.0;
+            p.crest_suspension_grains = f;
+            (p.nx, p.layers, p.bin_size, p.layer_thickness) = (256, 200, 0.005, 0.0005);
+        };
+        let a = recipe_section(1, in_grains, &[6000.0]);
         let l = f * 0.2e-3;
         eprintln!(
             "L = {f} d50: {:.2} cm high, H / 2L = {:.2}",
@@ -1282,6 +1328,51 @@ fn crest_suspension_sets_the_crest_height() {
     };
     let (short, long) = (height(30.0), height(60.0));
     assert!(long >= 1.3 * short, "{short} m against {long} m");
+}
+
+/// The recipe's bins of 2.5 mm resolve the fine sand's ripples: on a 2-D section of 0.64 m of
+/// 0.1 mm sand after 3000 s (seed 1) they have slip faces, where the same rules in 5 mm bins
+/// (the same section and sand) leave the bed flat, the grains' travel (1.6 mm) and the
+/// ripples' lee faces (about 2 cm wide) spanning less than a bin or a few. Measured: 12.8 cm,
+/// 1.18 cm, lee 30.5 deg, ripple index 10.8, symmetry index 2.4 in 2.5 mm bins; 21.3 cm,
+/// 1.21 cm, lee 18.0 deg, ripple index 17.6, symmetry index 1.3 in 5 mm bins. The bounds are
+/// the goals of current ripples (lee at least 27 deg, ripple index at most 12, symmetry index
+/// at least 2) and, in 5 mm bins, their opposite (lee below 24 deg, ripple index above 14).
+#[test]
+fn the_recipes_bins_resolve_the_fine_sands_slip_faces() {
+    let fine = |p: &mut RippleParams| {
+        p.d50 = 0.1;
+        p.nx = 256;
+    };
+    let resolved = &recipe_section(1, fine, &[3000.0])[0];
+    let coarse = &recipe_section(
+        1,
+        |p| {
+            fine(p);
+            (p.nx, p.layers, p.bin_size, p.layer_thickness) = (128, 200, 0.005, 0.0005);
+        },
+        &[3000.0],
+    )[0];
+    for (bins, a) in [("2.5 mm", resolved), ("5 mm", coarse)] {
+        eprintln!(
+            "{bins} bins: {:.1} cm, {:.2} cm, lee {:.1}, ripple index {:.1}, symmetry index {:.2}",
+            a.wavelength_m * 100.0,
+            a.height_m * 100.0,
+            a.lee_slope_deg,
+            a.ripple_index,
+            a.symmetry_index
+        );
+    }
+    assert!(
+        resolved.lee_slope_deg >= 27.0
+            && resolved.ripple_index <= 12.0
+            && resolved.symmetry_index >= 2.0,
+        "{resolved:?}"
+    );
+    assert!(
+        coarse.lee_slope_deg < 24.0 && coarse.ripple_index > 14.0,
+        "{coarse:?}"
+    );
 }
 
 /// The wavelength of a 2-D section of 1.28 m (0.2 mm sand, 0.5 m/s, 10 cm of sand) after each

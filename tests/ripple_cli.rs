@@ -1337,4 +1337,24 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
         o.status.success() && !err.contains("is for currents"),
         "{err}"
     );
+    // the recipe's bins of 2.5 mm resolve the travel of 0.2 mm sand (2.48 mm at 0.5 m/s);
+    // 5 mm bins do not resolve that of 0.1 mm sand (1.64 mm)
+    assert!(!err.contains("travel on a flat bed"), "{err}");
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--recipe",
+        "mature-current",
+        "--d50",
+        "0.1",
+        "--bin-size",
+        "0.005",
+    ]);
+    args.extend(["--layer-thickness", "0.0005"]);
+    let o = cellsurf(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success()
+            && err.contains("--bin-size = 0.005 m is more than twice the median grain's travel on a flat bed (0.0016 m"),
+        "{err}"
+    );
 }

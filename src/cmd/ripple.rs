@@ -37,7 +37,7 @@ use cellsurf::ripple::{
         cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
         cellsurf ripple --mode 2d --size 400x1 --abstraction shadow --out section.npy\n  \
         cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3\n  \
-        cellsurf ripple --recipe mature-current --mode 2d --size 512x1 --layers 200 --until equilibrium --duration 6h --json"
+        cellsurf ripple --recipe mature-current --mode 2d --size 1024x1 --until equilibrium --duration 6h --json"
 )]
 pub struct Args {
     /// Start from this scenario file (TOML, `model = "ripple"` and the same keys as the
@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
     /// Start from a built-in recipe of opt-in rules instead of the defaults: mature-current
-    /// (current ripples that stop growing, with slip faces at 0.2 mm and coarser; docs/ripple.md,
+    /// (current ripples that stop growing, with slip faces, in bins of 2.5 mm; docs/ripple.md,
     /// "A recipe for mature current ripples"); options typed here override it.
     /// `--print-scenario` shows its keys.
     #[arg(long, value_name = "NAME", conflicts_with = "scenario")]
@@ -551,9 +551,9 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             p.current_speed
         ));
     }
-    if p.suspension_exponent != 2.0 && p.crest_suspension_m() <= 0.0 {
+    if p.suspension_exponent != 2.0 && !p.crest_suspension_on() {
         conv::note(format_args!(
-            "warning: suspension_exponent = {} has no effect: crest suspension is off (crest_suspension and crest_suspension_grains are 0)",
+            "warning: suspension_exponent = {} has no effect: crest suspension is off (crest_suspension, crest_suspension_grains and crest_suspension_hops are 0)",
             p.suspension_exponent
         ));
     }
@@ -1060,6 +1060,19 @@ pub fn run(a: Args) -> Result<()> {
         conv::note(format_args!(
             "warning: --bin-size = {} m is longer than half the lee face of the predicted ripple (H / (2 tan alpha) = {resolving:.4} m for H = {:.4} m, {}, and alpha = {} deg): the slip face and the shadow behind it span fewer than two bins, so the field will depend on the bin; give a smaller --bin-size (and --layer-thickness)",
             p.bin_size, predicted.height, predicted.source, p.avalanche_angle
+        ));
+    }
+    // a travel in metres that the bin does not resolve (docs/ripple.md, "A recipe for mature
+    // current ripples": 5 mm bins lengthen the ripples by 27-46 % where they pass twice it)
+    let travel = cellsurf::ripple::clock::median_travel(&p, p.current_speed);
+    if p.hop_grains > 0.0
+        && reg.regime == Regime::Ripples
+        && !p.waves_dominate()
+        && p.bin_size > 2.0 * travel
+    {
+        conv::note(format_args!(
+            "warning: --bin-size = {} m is more than twice the median grain's travel on a flat bed ({travel:.4} m: hop_grains = {} diameters per unit of excess Shields stage at {} m/s): a grain then moves a whole bin or none, so the ripples will be longer than in finer bins; give a smaller --bin-size (and --layer-thickness)",
+            p.bin_size, p.hop_grains, p.current_speed
         ));
     }
     let surface = match (a.wave_height, secs.wave_period(), a.water_depth) {

@@ -112,6 +112,18 @@ pub fn mean_bedload(p: &RippleParams) -> f64 {
         / v.len() as f64
 }
 
+/// The median grain's mean travel on a flat bed of the run `p` in a free-stream flow of
+/// `speed` m/s, metres: `hop x (theta / theta_cr - 1)` for `d50`
+/// ([`RippleParams::hop_metres`]; `theta` from the quadratic friction law at `speed`, Soulsby
+/// 1997, Eqs. 30 and 74; `theta_cr` of Eq. 77), 0 in a flow that does not move it. Crest
+/// suspension's length in travels (`crest_suspension_hops`) is a multiple of it. (The
+/// calibration, [`flat_bed_travel`], measures the travel of every class on the lattice.)
+pub fn median_travel(p: &RippleParams, speed: f64) -> f64 {
+    let d = p.d50 * 1e-3;
+    let theta = shields(bed_shear_stress(speed, p.drag_coefficient), d);
+    (p.hop_metres(d) * (theta / theta_cr(d) - 1.0)).max(0.0)
+}
+
 /// The duration of a step and what it was computed from (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct StepClock {
@@ -282,6 +294,26 @@ pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `hop x (theta / theta_cr - 1)` of the median grain: 0.2 mm sand (theta_cr 0.0554) at
+    /// 0.5 m/s (theta 0.2016), 37.5 d50 per unit of excess stage: 7.5 mm x 2.642 = 19.8 mm.
+    #[test]
+    fn median_travel_is_the_hop_times_the_excess_shields_stage() {
+        let p = RippleParams {
+            hop_grains: 37.5,
+            ..RippleParams::default()
+        };
+        let t = median_travel(&p, 0.5);
+        assert!(
+            (t - 37.5 * 0.2e-3 * (0.201573 / 0.0553544 - 1.0)).abs() < 1e-5,
+            "{t}"
+        );
+        // none in a flow that does not move the median grain
+        assert_eq!(median_travel(&p, 0.1), 0.0);
+        // in bins without `hop_grains`: 1.5 bins of 5 mm per unit of excess stage
+        let bins = median_travel(&RippleParams::default(), 0.5);
+        assert!((bins - 1.5 * 0.005 * 2.6415).abs() < 1e-5, "{bins}");
+    }
 
     #[test]
     fn a_travel_in_grain_diameters_does_not_depend_on_the_bin() {

@@ -679,14 +679,13 @@ const VALIDATION_WAVE_SECONDS: [f64; 2] = [16_000.0, 32_000.0];
 /// the troughs of the vortex ripples (about 4 cm high) stay off the substrate.
 const VALIDATION_WAVE_LAYERS: usize = 200;
 
-/// Simulated seconds of the recipe's runs: its 2.56 m sections of 0.2 mm sand have their
-/// length of 96,000 s by then (17.1 / 16.0 cm at 6000 s, 17.2 / 17.1 cm at 96,000 s, seeds
-/// 1 / 2), and `--until equilibrium` stops them earlier (740-1617 s).
+/// Simulated seconds of the recipe's runs (docs/ripple.md, "A recipe for mature current
+/// ripples": the lengths they keep until 24,000 s).
 const RECIPE_SECONDS: f64 = 6000.0;
 
-/// Columns of the recipe's 2-D sections: 512 bins of 5 mm, 2.56 m (ripples of 12-27 cm come
-/// in steps of 256 / k cm, 2-7 % apart).
-const RECIPE_NX: usize = 512;
+/// Columns of the recipe's 2-D sections: 1024 of its bins of 2.5 mm, 2.56 m (ripples of
+/// 11-22 cm come in steps of 256 / k cm, 4-9 % apart).
+const RECIPE_NX: usize = 1024;
 
 /// One case of the validation study: current ripples of a grain size (with the paper's rules,
 /// the default, or with the opt-in recipe), wave ripples of an orbital diameter, or a current
@@ -746,8 +745,8 @@ impl ValidationCase {
     /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
     /// narrow strip along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
     /// long-crested), with 200 automata per column, the lee vortex and the command line's
-    /// sorting; the recipe on a 2-D section of [`RECIPE_NX`] bins (2.56 m) with 200 automata per
-    /// column (10 cm of sand), at the command line's 0.5 m/s.
+    /// sorting; the recipe on a 2-D section of [`RECIPE_NX`] bins (2.56 m) with its own bins,
+    /// automata and sand (10 cm), at the command line's 0.5 m/s.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
         let base = RippleParams {
             layers: 20,
@@ -786,7 +785,6 @@ impl ValidationCase {
                 mode: super::Mode::TwoD,
                 nx: RECIPE_NX,
                 ny: 1,
-                layers: 200,
                 d50,
                 seed,
                 ..super::recipe::Recipe::MatureCurrent.params()

@@ -237,6 +237,19 @@ pub struct RippleParams {
     /// the user, not derived. 0..=1e5 (0: off). Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub crest_suspension_grains: f64,
+    /// Crest suspension's length in flat-bed travels (opt-in): when above 0, crest suspension
+    /// acts with `L = crest_suspension_hops x` the median grain's mean travel on a flat bed in
+    /// the step's free-stream flow ([`super::clock::median_travel`]), the same `L`
+    /// for every grain class, in place of `crest_suspension` and `crest_suspension_grains`
+    /// (which must then be 0). Our reading: a crest sheds the grains that it lifts out of the
+    /// bedload layer, and that layer is as thick as the grains' hops are long (saltation
+    /// height and length grow together with the transport stage: L. C. van Rijn (1984),
+    /// "Sediment transport, part I: bed load transport", *J. Hydraul. Eng.* 110(10),
+    /// 1431-1456, <https://doi.org/10.1061/(ASCE)0733-9429(1984)110:10(1431)>), so the crests'
+    /// height follows the same travel as the ripples' length. A factor chosen by the user, not
+    /// derived. 0..=1000 (0: off). Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub crest_suspension_hops: f64,
     /// Crest suspension's exponent `n`: a grain moved from `zeta` above the bed's mean level
     /// is suspended with probability `min(1, (zeta / L)^n)`, so a larger `n` sheds sand
     /// from the crests above `L` and hardly from the lower ones. In [1, 64]. Left out of files
@@ -324,6 +337,7 @@ impl Default for RippleParams {
             hop_grains: 0.0,
             crest_suspension: 0.0,
             crest_suspension_grains: 0.0,
+            crest_suspension_hops: 0.0,
             suspension_exponent: 2.0,
             stress_lead: 0.0,
             separation_angle: 0.0,
@@ -358,6 +372,7 @@ impl RippleParams {
             hop_exponential: true,
             crest_suspension: 0.5,
             crest_suspension_grains: 1.0,
+            crest_suspension_hops: 1.0,
             suspension_exponent: 4.0,
             stress_lead: 1.0,
             separation_angle: 10.0,
@@ -678,8 +693,14 @@ impl RippleParams {
         }
     }
 
-    /// Crest suspension's length `L`, metres: `crest_suspension_grains x d50` when that is
-    /// set, `crest_suspension` otherwise (0: the rule is off).
+    /// Whether crest suspension acts (one of its three lengths is set).
+    pub fn crest_suspension_on(&self) -> bool {
+        self.crest_suspension_hops > 0.0 || self.crest_suspension_m() > 0.0
+    }
+
+    /// Crest suspension's fixed length `L`, metres: `crest_suspension_grains x d50` when that
+    /// is set, `crest_suspension` otherwise (0 as well when the length is in flat-bed travels,
+    /// `crest_suspension_hops`, which the rule computes per grain and step).
     pub fn crest_suspension_m(&self) -> f64 {
         if self.crest_suspension_grains > 0.0 {
             self.crest_suspension_grains * self.d50 * 1e-3
@@ -880,6 +901,23 @@ impl RippleParams {
             ));
         }
         check_f(
+            "crest_suspension_hops",
+            self.crest_suspension_hops,
+            0.0,
+            1e3,
+            false,
+            false,
+        )?;
+        if self.crest_suspension_hops > 0.0
+            && (self.crest_suspension > 0.0 || self.crest_suspension_grains > 0.0)
+        {
+            return Err(range(
+                "crest_suspension_hops",
+                shown(self.crest_suspension_hops),
+                "0 when crest_suspension or crest_suspension_grains is set (crest suspension's length in metres, grain diameters or flat-bed travels: one of them)",
+            ));
+        }
+        check_f(
             "suspension_exponent",
             self.suspension_exponent,
             1.0,
@@ -1038,6 +1076,28 @@ mod tests {
                 "crest_suspension_grains = 50",
             ),
             (
+                bad(|p| p.crest_suspension_hops = -2.0),
+                "crest_suspension_hops = -2",
+            ),
+            (
+                bad(|p| p.crest_suspension_hops = 2000.0),
+                "crest_suspension_hops = 2000",
+            ),
+            (
+                bad(|p| {
+                    p.crest_suspension_hops = 5.0;
+                    p.crest_suspension_grains = 40.0;
+                }),
+                "crest_suspension_hops = 5",
+            ),
+            (
+                bad(|p| {
+                    p.crest_suspension_hops = 5.0;
+                    p.crest_suspension = 0.01;
+                }),
+                "crest_suspension_hops = 5",
+            ),
+            (
                 bad(|p| p.suspension_exponent = 0.5),
                 "suspension_exponent = 0.5",
             ),
@@ -1084,6 +1144,13 @@ mod tests {
         ok.crest_suspension_grains = 50.0;
         assert!(ok.validate().is_ok());
         assert!((ok.crest_suspension_m() - 50.0 * 0.2e-3).abs() < 1e-15);
+        assert!(ok.crest_suspension_on());
+        // or in flat-bed travels: on, with no fixed length
+        ok.crest_suspension_grains = 0.0;
+        assert!(!ok.crest_suspension_on());
+        ok.crest_suspension_hops = 5.0;
+        assert!(ok.validate().is_ok());
+        assert!(ok.crest_suspension_on() && ok.crest_suspension_m() == 0.0);
     }
 
     #[test]

@@ -3,12 +3,13 @@
 //!
 //! Principal type: [`Recipe`]. Its one recipe, [`Recipe::MatureCurrent`], is the file
 //! `docs/ripple_mature_current.toml` (docs/ripple.md, "A recipe for mature current ripples"):
-//! a short exponential travel in grain diameters, the leading bed stress, flow separation,
-//! thicker water slices and crest suspension at `L = 40 d50` with a sharp threshold, which
-//! give current ripples that stop growing, with slip faces at 0.2 mm and coarser. Every factor
-//! of it was chosen in a screen, not derived; it is for currents (under waves its ripples do
-//! not follow the wave predictor's 0.62 d0: 7.7 / 2.6 / 0.86 times it at d0 = 0.1 / 0.2 /
-//! 0.4 m for 0.3 mm sand).
+//! bins of 2.5 mm that resolve the grains' travel and the ripples' lee faces, a short
+//! exponential travel in grain diameters, the leading bed stress, flow separation, thicker
+//! water slices and crest suspension at `L` = 4.3 flat-bed travels of the median grain with a
+//! sharp threshold, which give current ripples that stop growing, with slip faces, at 0.1 to
+//! 0.4 mm. Every factor of it was chosen in a screen, not derived; it is for currents (not
+//! measured against the wave predictor's 0.62 d0; the previous recipe, with 5 mm bins, gave
+//! 7.7 / 2.6 / 0.86 times it at d0 = 0.1 / 0.2 / 0.4 m for 0.3 mm sand).
 
 use std::fmt;
 use std::str::FromStr;
@@ -71,18 +72,21 @@ impl fmt::Display for Recipe {
 mod tests {
     use super::*;
 
-    /// The recipe sets the keys the docs measure, and only opt-in ones: every other parameter
-    /// keeps its default.
+    /// The recipe sets the keys the docs measure (the bin, the automaton and the sand's depth,
+    /// and opt-in rules): every other parameter keeps its default.
     #[test]
     fn the_mature_current_recipe_sets_its_keys_and_keeps_the_other_defaults() {
         let p = Recipe::MatureCurrent.params();
         let expected = RippleParams {
+            bin_size: 0.0025,
+            layer_thickness: 0.00025,
+            layers: 400,
             hop_grains: 4.6875,
             hop_exponential: true,
             stress_lead: 4.0,
             separation_angle: 15.0,
             slice_layers: 6,
-            crest_suspension_grains: 40.0,
+            crest_suspension_hops: 4.3,
             suspension_exponent: 8.0,
             ..RippleParams::default()
         };

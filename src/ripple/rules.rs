@@ -279,24 +279,40 @@ impl Ripple {
         true
     }
 
-    /// Crest suspension (`crest_suspension` or `crest_suspension_grains`, opt-in): where a
-    /// grain that the flow has just moved (at least one hop, not in the lee vortex) from a
-    /// column whose top stood at `start_level` automata settles instead of where it rolled.
+    /// Crest suspension (`crest_suspension`, `crest_suspension_grains` or
+    /// `crest_suspension_hops`, opt-in): where a grain that the flow `flow` has just moved (at
+    /// least one hop, not in the lee vortex) from a column whose top stood at `start_level`
+    /// automata settles instead of where it rolled, `L` being the fixed length
+    /// ([`crate::ripple::RippleParams::crest_suspension_m`]) or `crest_suspension_hops` times
+    /// [`super::clock::median_travel`] at the flow's free-stream speed (no suspension where
+    /// that is 0).
     /// With probability `min(1, (zeta / L)^n)` (`n` the `suspension_exponent`), `zeta` the
     /// height of that top above the bed's mean level (the automata per column, constant as the
     /// mass is), it was suspended and settles on a column drawn uniformly from the whole volume
     /// (upstream or downstream, the grain's own column included; a full column leaves it where
     /// it rolled), with a rolled grain's porosity.
     /// `None`: it rolled. No random draw when the rule is off or `zeta` is not above 0.
-    fn suspension_landing(&mut self, start_level: usize, vortex: bool) -> Option<usize> {
-        let l = self.p.crest_suspension_m();
-        if vortex || l <= 0.0 {
+    fn suspension_landing(
+        &mut self,
+        start_level: usize,
+        vortex: bool,
+        flow: &Flow,
+    ) -> Option<usize> {
+        if vortex || !self.p.crest_suspension_on() {
             return None;
         }
         let columns = self.vol.columns();
         let mean = self.automata as f64 / columns as f64;
         let zeta = (start_level as f64 - mean) * self.p.layer_thickness;
         if zeta <= 0.0 {
+            return None;
+        }
+        let l = if self.p.crest_suspension_hops > 0.0 {
+            self.p.crest_suspension_hops * super::clock::median_travel(&self.p, flow.speed)
+        } else {
+            self.p.crest_suspension_m()
+        };
+        if l <= 0.0 {
             return None;
         }
         let n = self.p.suspension_exponent;
@@ -439,7 +455,7 @@ impl Ripple {
             return false;
         }
         // Crest suspension (opt-in): a grain that the flow has moved may settle elsewhere.
-        let p = match self.suspension_landing(start_level, vortex) {
+        let p = match self.suspension_landing(start_level, vortex, flow) {
             Some(to) => to,
             None => {
                 self.stats.rolls += 1;
