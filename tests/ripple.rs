@@ -1105,7 +1105,7 @@ fn conservation_and_no_slope_above_alpha_with_crest_suspension() {
 /// Crest suspension in flat-bed travels (`crest_suspension_hops = k`) is crest suspension at
 /// `L = k x hop x (theta / theta_cr - 1)`, the median grain's mean travel on a flat bed in the
 /// run's current (0.5 travels of 0.2 mm sand at 0.5 m/s: 0.5 x 0.94 mm x 2.64 = 1.24 mm), for
-/// every grain class: the run gives the same bed, step for step, as the same rules with that
+/// every grain class: after 400 steps the run has the same bed as the same rules with that
 /// `L` in metres (`crest_suspension`), and it does shed grains.
 #[test]
 fn crest_suspension_in_travels_is_crest_suspension_at_the_median_grains_travel() {
@@ -1259,7 +1259,7 @@ fn analyses_at(p: &RippleParams, times: &[f64]) -> Vec<Analysis> {
 /// least 27 deg (the avalanche angle is 32), ripple index at most 12; with the exponent 2, a
 /// ripple index above the exponent 8's by at least 1.5.
 #[test]
-#[ignore = "long: 1.28 m in 2.5 mm bins to 24,000 s, twice (about 5 minutes in release)"]
+#[ignore = "long: 1.28 m in 2.5 mm bins to 24,000 s, twice (about 9 minutes in release)"]
 fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
     let a = recipe_section(1, |_| {}, &[6000.0, 24_000.0]);
     let (early, late) = (&a[0], &a[1]);
@@ -1299,8 +1299,8 @@ fn the_mature_current_recipe_holds_a_length_with_slip_faces() {
 /// (crest to trough) stays near `2 L`, and a longer `L` gives higher ripples. Measured (the
 /// recipe's rules with `L` in grain diameters, in 5 mm bins to keep the test short, on
 /// 1.28 m, 0.2 mm sand, 6000 s, seeds 1 / 2): `L` = 30 d50 (6 mm): 1.19 / 1.19 cm,
-/// `H / 2L` 0.99 / 0.99; `L` = 60 d50 (12 mm): 1.76 / 1.90 cm, 0.73 / 0.79 (the docs' screen
-/// with the exponent 8: 0.67-1.04). The bounds are empirical: `H / 2L` in [0.6, 1.1], around
+/// `H / 2L` 0.99 / 0.99; `L` = 60 d50 (12 mm): 1.76 / 1.90 cm, 0.73 / 0.79 (the previous
+/// recipe's screen in 5 mm bins: 0.67-1.04; the recipe in 2.5 mm bins: 0.77-0.82). The bounds are empirical: `H / 2L` in [0.6, 1.1], around
 /// the screen's range (the rule bounds the crest's rise above the mean level, not the trough's
 /// depth, so `H / 2L` can pass 1), and the height with the longer `L` at least 1.3 times the
 /// shorter's (measured 1.5-1.6).
@@ -1332,8 +1332,9 @@ fn crest_suspension_sets_the_crest_height() {
 
 /// The recipe's bins of 2.5 mm resolve the fine sand's ripples: on a 2-D section of 0.64 m of
 /// 0.1 mm sand after 3000 s (seed 1) they have slip faces, where the same rules in 5 mm bins
-/// (the same section and sand) leave the bed flat, the grains' travel (1.6 mm) and the
-/// ripples' lee faces (about 2 cm wide) spanning less than a bin or a few. Measured: 12.8 cm,
+/// (the same section and sand) leave the ripples without them (on 2.56 m after 6000 s the 5 mm
+/// bins reach lee 26.8 deg, ripple index 14.0), the grains' travel (1.6 mm) being a third of
+/// a bin. Measured: 12.8 cm,
 /// 1.18 cm, lee 30.5 deg, ripple index 10.8, symmetry index 2.4 in 2.5 mm bins; 21.3 cm,
 /// 1.21 cm, lee 18.0 deg, ripple index 17.6, symmetry index 1.3 in 5 mm bins. The bounds are
 /// the goals of current ripples (lee at least 27 deg, ripple index at most 12, symmetry index

@@ -1316,10 +1316,14 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
     assert_refused(&args, &o, "--recipe", "--scenario");
 
     let args = ["ripple", "--recipe", "mature", "--print-scenario"];
+    // the recipe runs a 2-D section: a short one of 64 bins
+    let recipe_small = [
+        "ripple", "--size", "64x1", "--layers", "20", "--steps", "40", "--seed", "3",
+    ];
     let o = cellsurf(&args);
     assert_refused(&args, &o, "recipe", "mature-current");
 
-    let mut args = SMALL.to_vec();
+    let mut args = recipe_small.to_vec();
     args.extend(["--recipe", "mature-current"]);
     args.extend(WAVES);
     let o = cellsurf(&args);
@@ -1329,7 +1333,7 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
         err.contains("warning: --recipe mature-current is for currents"),
         "{err}"
     );
-    let mut args = SMALL.to_vec();
+    let mut args = recipe_small.to_vec();
     args.extend(["--recipe", "mature-current"]);
     let o = cellsurf(&args);
     let err = String::from_utf8_lossy(&o.stderr);
@@ -1337,10 +1341,10 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
         o.status.success() && !err.contains("is for currents"),
         "{err}"
     );
-    // the recipe's bins of 2.5 mm resolve the travel of 0.2 mm sand (2.48 mm at 0.5 m/s);
-    // 5 mm bins do not resolve that of 0.1 mm sand (1.64 mm)
+    // the recipe's bins of 2.5 mm are about the travel of 0.2 mm sand (2.48 mm at 0.5 m/s);
+    // 5 mm bins are three times that of 0.1 mm sand (1.64 mm)
     assert!(!err.contains("travel on a flat bed"), "{err}");
-    let mut args = SMALL.to_vec();
+    let mut args = recipe_small.to_vec();
     args.extend([
         "--recipe",
         "mature-current",

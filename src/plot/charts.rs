@@ -204,7 +204,8 @@ const CORNERS: [(SeriesLabelPosition, bool, bool); 4] = [
 /// fill at least half the chart's height); beyond it the legend covers the fewest data.
 const MAX_STRETCH: f64 = 2.0;
 
-/// Where a chart's legend goes: a corner it covers no data in, else the y range stretched
+/// Where a chart's legend goes (with no labelled series there is none: the first corner, the
+/// range unchanged): a corner it covers no data in, else the y range stretched
 /// upwards (at most [`MAX_STRETCH`] times) so that the data pass under an upper corner, else
 /// the corner covering the fewest data. The data are the series' markers and their lines
 /// (sampled every few pixels), in pixels of the plotting area `plot` (width, height); the
@@ -225,6 +226,9 @@ fn place_legend(
             (v - a) / (b - a)
         }
     };
+    if chart.series.iter().all(|s| s.label.is_empty()) {
+        return (CORNERS[0].0.clone(), y);
+    }
     let (pw, ph) = plot;
     let (lw, lh) = legend;
     // (u, v): the data in axis-normalised coordinates (v up), points and line samples.
@@ -662,6 +666,17 @@ mod unit {
         assert!(a > 0.0 && a < 5.0 && b > 5.0);
     }
 
+    /// A chart with one labelled series (the points are passed apart, as runs).
+    fn labelled() -> Chart {
+        Chart {
+            series: vec![Series {
+                label: "a".into(),
+                ..Series::default()
+            }],
+            ..Chart::default()
+        }
+    }
+
     /// Runs of points and a chart's x and y ranges.
     type Laid = (Vec<Vec<(f64, f64)>>, (f64, f64), (f64, f64));
 
@@ -687,7 +702,7 @@ mod unit {
             (down, SeriesLabelPosition::UpperRight),
         ] {
             let (segs, xr, yr) = laid_out(&[(&x, &y)]);
-            let chart = Chart::default();
+            let chart = labelled();
             let got = place_legend(&segs, xr, yr, &chart, (400.0, 300.0), (120.0, 60.0));
             assert_eq!(got, (want, yr));
         }
@@ -698,7 +713,7 @@ mod unit {
         // Lines along the top and the bottom: no corner is free.
         let x = [0.0, 10.0];
         let (segs, xr, yr) = laid_out(&[(&x, &[1.0, 1.0]), (&x, &[0.0, 0.0])]);
-        let chart = Chart::default();
+        let chart = labelled();
         let (plot, legend) = ((400.0, 300.0), (120.0, 60.0));
         let (c, y) = place_legend(&segs, xr, yr, &chart, plot, legend);
         assert_eq!(c, SeriesLabelPosition::UpperRight);
@@ -714,6 +729,9 @@ mod unit {
         assert_eq!(place_legend(&segs, xr, y, &chart, plot, legend), (c, y));
         // A legend taller than the chart allows: no stretch, the corner covering least.
         let (_, y) = place_legend(&segs, xr, yr, &chart, plot, (120.0, 200.0));
+        assert_eq!(y, yr);
+        // A chart without labels has no legend, and keeps its range.
+        let (_, y) = place_legend(&segs, xr, yr, &Chart::default(), plot, legend);
         assert_eq!(y, yr);
     }
 }

@@ -242,12 +242,14 @@ pub struct RippleParams {
     /// the step's free-stream flow ([`super::clock::median_travel`]), the same `L`
     /// for every grain class, in place of `crest_suspension` and `crest_suspension_grains`
     /// (which must then be 0). Our reading: a crest sheds the grains that it lifts out of the
-    /// bedload layer, and that layer is as thick as the grains' hops are long (saltation
-    /// height and length grow together with the transport stage: L. C. van Rijn (1984),
-    /// "Sediment transport, part I: bed load transport", *J. Hydraul. Eng.* 110(10),
-    /// 1431-1456, <https://doi.org/10.1061/(ASCE)0733-9429(1984)110:10(1431)>), so the crests'
-    /// height follows the same travel as the ripples' length. A factor chosen by the user, not
-    /// derived. 0..=1000 (0: off). Left out of files when 0. Default 0.
+    /// bedload layer, whose thickness grows with the transport stage as the grains' hop
+    /// lengths do (L. C. van Rijn (1984), "Sediment transport, part I: bed load transport",
+    /// *J. Hydraul. Eng.* 110(10), 1431-1456,
+    /// <https://doi.org/10.1061/(ASCE)0733-9429(1984)110:10(1431)>); taking `L` in proportion
+    /// to the travel is our choice, not van Rijn's, so that the crests' height follows the
+    /// same travel as the ripples' length. Without `hop_grains` the travel is in bins
+    /// (`hop_length`), and `L` with it. A factor chosen by the user, not derived. 0..=1000
+    /// (0: off). Left out of files when 0. Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub crest_suspension_hops: f64,
     /// Crest suspension's exponent `n`: a grain moved from `zeta` above the bed's mean level

@@ -3,7 +3,7 @@
 //!
 //! Principal type: [`Recipe`]. Its one recipe, [`Recipe::MatureCurrent`], is the file
 //! `docs/ripple_mature_current.toml` (docs/ripple.md, "A recipe for mature current ripples"):
-//! bins of 2.5 mm that resolve the grains' travel and the ripples' lee faces, a short
+//! bins of 2.5 mm, 0.75-1.5 of the grains' flat-bed travel (1.6-3.4 mm at 0.5 m/s), a short
 //! exponential travel in grain diameters, the leading bed stress, flow separation, thicker
 //! water slices and crest suspension at `L` = 4.3 flat-bed travels of the median grain with a
 //! sharp threshold, which give current ripples that stop growing, with slip faces, at 0.1 to
@@ -78,6 +78,9 @@ mod tests {
     fn the_mature_current_recipe_sets_its_keys_and_keeps_the_other_defaults() {
         let p = Recipe::MatureCurrent.params();
         let expected = RippleParams {
+            mode: crate::ripple::Mode::TwoD,
+            nx: 1024,
+            ny: 1,
             bin_size: 0.0025,
             layer_thickness: 0.00025,
             layers: 400,

@@ -291,7 +291,7 @@ impl Ripple {
     /// mass is), it was suspended and settles on a column drawn uniformly from the whole volume
     /// (upstream or downstream, the grain's own column included; a full column leaves it where
     /// it rolled), with a rolled grain's porosity.
-    /// `None`: it rolled. No random draw when the rule is off or `zeta` is not above 0.
+    /// `None`: it rolled. No random draw when the rule is off, `zeta` is not above 0 or `L` is 0.
     fn suspension_landing(
         &mut self,
         start_level: usize,
