@@ -76,6 +76,10 @@ pub struct Ripple {
     /// The smallest height difference (automata) an avalanche can move: max(2, the axial
     /// threshold's next integer).
     pub(crate) min_drop: i64,
+    /// Crest suspension's length in flat-bed travels (`crest_suspension_hops`) for the last
+    /// free-stream speed asked about: (speed m/s, `L` m), so that it is computed once per
+    /// flow, not per moved grain (NaN speed: not yet).
+    pub(crate) suspension_length: (f64, f64),
 }
 
 impl Ripple {
@@ -173,6 +177,7 @@ impl Ripple {
             path: Vec::new(),
             hmax_bound,
             min_drop: ((t(p.avalanche_angle).floor() as i64) + 1).clamp(2, i64::MAX / 4),
+            suspension_length: (f64::NAN, 0.0),
             classes,
             p: p.clone(),
         };

@@ -308,7 +308,12 @@ impl Ripple {
             return None;
         }
         let l = if self.p.crest_suspension_hops > 0.0 {
-            self.p.crest_suspension_hops * super::clock::median_travel(&self.p, flow.speed)
+            // (computed once per free-stream speed: it changes only with the waves' phase)
+            if self.suspension_length.0 != flow.speed {
+                let travel = super::clock::median_travel(&self.p, flow.speed);
+                self.suspension_length = (flow.speed, self.p.crest_suspension_hops * travel);
+            }
+            self.suspension_length.1
         } else {
             self.p.crest_suspension_m()
         };
