@@ -943,6 +943,20 @@ impl RippleParams {
             let per_automaton = self.layer_thickness / self.bin_size;
             let drop = (self.separation_angle.to_radians().tan() / per_automaton - 1e-9).ceil();
             let most = (self.avalanche_angle.to_radians().tan() / per_automaton + 1e-9).floor();
+            if most < 2.0 {
+                // no angle can work: the steepest drop that stands is one automaton
+                return Err(range(
+                    "separation_angle",
+                    shown(self.separation_angle),
+                    &format!(
+                        "0 (off) here: flow separation needs a drop of 2 automata or more over a bin that the avalanche angle lets stand, and here tan(avalanche_angle) x bin_size / layer_thickness = {:.2} automata (avalanche_angle = {} deg, bin_size = {} m, layer_thickness = {} m); a thinner layer_thickness, a larger bin_size or a steeper avalanche_angle gives it room",
+                        self.avalanche_angle.to_radians().tan() / per_automaton,
+                        shown(self.avalanche_angle),
+                        shown(self.bin_size),
+                        shown(self.layer_thickness)
+                    ),
+                ));
+            }
             if drop < 2.0 || drop > most {
                 let deg = |automata: f64| (automata * per_automaton).atan().to_degrees();
                 return Err(range(
@@ -1129,6 +1143,19 @@ mod tests {
         ] {
             assert!(e.starts_with(key) && e.contains("out of range"), "{e}");
         }
+        // no room at all for flow separation: the steepest standing drop is one automaton
+        let e = bad(|p| {
+            p.separation_angle = 15.0;
+            p.bin_size = 0.001;
+            p.layer_thickness = 0.00025;
+            p.avalanche_angle = 20.0;
+        });
+        assert!(
+            e.starts_with("separation_angle = 15")
+                && e.contains("0 (off) here")
+                && e.contains("1.46 automata"),
+            "{e}"
+        );
         let mut ok = RippleParams {
             hop_grains: 37.5,
             hop_exponential: true,
