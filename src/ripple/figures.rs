@@ -66,7 +66,7 @@ pub const FIGURES: &[Figure] = &[
     },
     Figure {
         name: "ripple_validation",
-        about: "Sand ripple generator against the predictors: current ripples' wavelength and height against d50 (Soulsby & Whitehouse 2005), with the paper's rules and with the opt-in recipe for mature current ripples, wave ripples' wavelength against d0 (Wiberg & Harris 1994), crest normal against current angle (means over 3 seeds, standard errors)",
+        about: "Sand ripple generator against the predictors: current ripples' wavelength and height against d50 (Soulsby & Whitehouse 2005), with the paper's rules and with the recipe for mature current ripples (the command's default for currents), wave ripples' wavelength against d0 (Wiberg & Harris 1994), crest normal against current angle (means over 3 seeds, standard errors)",
         make: validation,
     },
 ];
@@ -688,7 +688,8 @@ const RECIPE_SECONDS: f64 = 6000.0;
 const RECIPE_NX: usize = 1024;
 
 /// One case of the validation study: current ripples of a grain size (with the paper's rules,
-/// the default, or with the opt-in recipe), wave ripples of an orbital diameter, or a current
+/// the library's defaults, or with the recipe for mature current ripples, the command's default
+/// for currents), wave ripples of an orbital diameter, or a current
 /// angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum ValidationCase {
@@ -833,8 +834,8 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 }
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
-/// grain sizes after 300 s and 1800 s of flow, and under the opt-in recipe for mature current
-/// ripples after 3000 s, wave ripples (with the lee vortex, on narrow strips with 10 cm of sand)
+/// grain sizes after 300 s and 1800 s of flow with the paper's rules, and under the recipe for
+/// mature current ripples after 6000 s on 2-D sections of 2.56 m, wave ripples (with the lee vortex, on narrow strips with 10 cm of sand)
 /// for three orbital diameters after 16,000 s and 32,000 s, and the crest normal for current
 /// angles 0-180 deg after 300 s, 3 seeds each
 /// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).
@@ -964,15 +965,15 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         se.label.clear();
         [mean, se]
     };
-    let recipe_label = format!("opt-in recipe, 2-D 2.56 m, {RECIPE_SECONDS} s");
+    let recipe_label = format!("recipe (the default), 2-D 2.56 m, {RECIPE_SECONDS} s");
     let mut wl = model_series(
-        &format!("model, 96 x 24 cm, {t1} s"),
+        &format!("paper's rules, 96 x 24 cm, {t1} s"),
         &d50,
         &cur(t1, &|r| r.wavelength_m),
     )
     .to_vec();
     wl.extend(model_series(
-        &format!("model, 96 x 24 cm, {t2} s"),
+        &format!("paper's rules, 96 x 24 cm, {t2} s"),
         &d50,
         &cur(t2, &|r| r.wavelength_m),
     ));
@@ -987,13 +988,13 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         &recipe(&|r| r.wavelength_m, 100.0),
     ));
     let mut ht = model_series(
-        &format!("model, 96 x 24 cm, {t1} s"),
+        &format!("paper's rules, 96 x 24 cm, {t1} s"),
         &d50,
         &cur(t1, &|r| r.height_m),
     )
     .to_vec();
     ht.extend(model_series(
-        &format!("model, 96 x 24 cm, {t2} s"),
+        &format!("paper's rules, 96 x 24 cm, {t2} s"),
         &d50,
         &cur(t2, &|r| r.height_m),
     ));
