@@ -485,7 +485,12 @@ fn readme(s: &Study) -> Vec<String> {
     for &d50 in &D50_MM {
         let case = format!("current, d50 {d50} mm");
         let Some(r) = c.row(&format!(
-            "| current 0.5 m/s, d50 {d50} mm, after 300 s / 1800 s |"
+            "| the paper's rules{}, current 0.5 m/s, d50 {d50} mm, after 300 s / 1800 s |",
+            if d50 == D50_MM[0] {
+                " (`--recipe paper`)"
+            } else {
+                ""
+            }
         )) else {
             continue;
         };
@@ -530,6 +535,28 @@ fn readme(s: &Study) -> Vec<String> {
                     .failures
                     .push(format!("README.md: {case}: no 1800 s {name}")),
             }
+        }
+    }
+    for &d50 in &D50_MM {
+        // the default under a current, the recipe for mature current ripples: the study's
+        // series 5 (wavelength, height), 6 and 8 (ripple and symmetry index)
+        let case = format!("current, d50 {d50} mm, the default");
+        let Some(r) = c.row(&format!(
+            "| current 0.5 m/s, d50 {d50} mm, the default (the recipe), after 6000 s |"
+        )) else {
+            continue;
+        };
+        for (what, chart, series, cell) in [
+            ("wavelength", 0, 5, 1),
+            ("height", 1, 5, 3),
+            ("ripple index", 4, 6, 5),
+            ("symmetry index", 4, 8, 6),
+        ] {
+            c.expect(
+                &format!("{case}, {what}"),
+                r[cell].split_whitespace().next().unwrap_or(""),
+                s.mean(chart, series, d50),
+            );
         }
     }
     let start = "| waves, d50 0.3 mm, d0 0.2 / 0.3 / 0.4 m, after 32,000 s (8.9 h) |";

@@ -268,7 +268,8 @@ fn regimes_no_motion_ripples_and_sheet_flow() {
 fn duration_and_until_equilibrium() {
     let run = |extra: &[&str]| {
         let mut args = vec![
-            "ripple", "--size", "24x12", "--layers", "10", "--seed", "3", "--json",
+            "ripple", "--recipe", "paper", "--size", "24x12", "--layers", "10", "--seed", "3",
+            "--json",
         ];
         args.extend_from_slice(extra);
         cellsurf(&args)
@@ -502,7 +503,8 @@ fn a_bed_down_to_the_substrate_is_warned_and_never_at_equilibrium() {
 fn waves_by_orbital_velocity_period_and_angle() {
     let run = |extra: &[&str]| {
         let mut args = vec![
-            "ripple", "--layers", "10", "--seed", "3", "--json", "--d50", "0.3",
+            "ripple", "--recipe", "paper", "--layers", "10", "--seed", "3", "--json", "--d50",
+            "0.3",
         ];
         if !extra.contains(&"--size") {
             args.extend(["--size", "24x12"]);
@@ -909,6 +911,8 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
     let run = |size: &str, angle: &str| {
         cellsurf(&[
             "ripple",
+            "--recipe",
+            "paper",
             "--size",
             size,
             "--layers",
@@ -1286,9 +1290,20 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
     ]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let printed = RippleParams::from_toml(&text).unwrap();
+    // without a length it runs until equilibrium, for at most 6 h of flow
+    assert!(
+        text.contains("\nduration_s = 21600.0\n") && text.contains("\nuntil = \"equilibrium\"\n"),
+        "{text}"
+    );
+    let keys: String = text
+        .lines()
+        .filter(|l| !l.starts_with("duration_s"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let printed = RippleParams::from_toml(&keys).unwrap();
     let expected = RippleParams {
         d50: 0.3,
+        until: Some("equilibrium".into()),
         ..Recipe::MatureCurrent.params()
     };
     assert_eq!(printed, expected, "{text}");
@@ -1361,4 +1376,80 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
             && err.contains("--bin-size = 0.005 m is more than twice the median grain's travel on a flat bed (0.0016 m"),
         "{err}"
     );
+}
+
+/// Without `--recipe` or `--scenario`, a current's run starts from the recipe for mature
+/// current ripples and runs until its field is mature (at most 6 h of flow): a section of
+/// 64 cm stops at equilibrium with ripples of a current's shape (Soulsby & Whitehouse predict
+/// 14.6 cm at 0.2 mm; the recipe's full 2.56 m default stops at 1605-1642 s, docs/ripple.md).
+/// Where the waves dominate it starts from the paper's rules; a size sets the mode, `--mode
+/// 3d` alone a 3-D field of 256 x 64 bins, and a typed length runs without the stop.
+#[test]
+fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
+    let o = cellsurf(&[
+        "ripple", "--size", "256x1", "--seed", "1", "--json", "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["recipe"], "mature-current");
+    assert_eq!(v["until"], "equilibrium");
+    assert_eq!(v["duration_s"], 21600.0);
+    assert_eq!(v["parameters"]["bin_size"], 0.0025);
+    assert_eq!(v["parameters"]["mode"], "2d");
+    assert_eq!(v["equilibrium"], true, "{v}");
+    let t = v["simulated_time_s"].as_f64().unwrap();
+    assert!(t < 21600.0, "{t}");
+    let (l, h) = (
+        v["wavelength_m"].as_f64().unwrap(),
+        v["height_m"].as_f64().unwrap(),
+    );
+    let (ri, lee, si) = (
+        v["ripple_index"].as_f64().unwrap(),
+        v["lee_slope_deg"].as_f64().unwrap(),
+        v["symmetry_index"].as_f64().unwrap(),
+    );
+    // against the predictor's 14.6 cm and 1.86 cm: the 20 % and 25 %; the shape of
+    // current ripples (ripple index 6-12, slip faces, asymmetric)
+    assert!((l / 0.146 - 1.0).abs() < 0.2, "{l}");
+    assert!((h / 0.0186 - 1.0).abs() < 0.25, "{h}");
+    assert!(
+        (6.0..=12.0).contains(&ri) && lee >= 28.0 && si >= 2.0,
+        "{ri} {lee} {si}"
+    );
+
+    let scenario = |extra: &[&str]| {
+        let mut a = vec!["ripple"];
+        a.extend_from_slice(extra);
+        a.push("--print-scenario");
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    // waves dominating: the paper's rules, 5 mm bins, the fixed steps
+    let s = scenario(&WAVES);
+    assert!(
+        s.contains("\nbin_size = 0.005\n") && !s.contains("until") && !s.contains("hop_grains"),
+        "{s}"
+    );
+    // a size NXxNY makes it 3-D, NXx1 a section; --mode 3d alone 256 x 64 bins
+    let s = scenario(&["--size", "24x12"]);
+    assert!(
+        s.contains("\nmode = \"3d\"\n") && s.contains("\nbin_size = 0.0025\n"),
+        "{s}"
+    );
+    let s = scenario(&["--recipe", "paper", "--size", "64x1"]);
+    assert!(
+        s.contains("\nmode = \"2d\"\n") && s.contains("\nbin_size = 0.005\n"),
+        "{s}"
+    );
+    let s = scenario(&["--mode", "3d"]);
+    assert!(s.contains("\nnx = 256\nny = 64\n"), "{s}");
+    // a typed length: that long, no stop
+    let s = scenario(&["--duration", "600s"]);
+    assert!(
+        s.contains("\nduration_s = 600.0\n") && !s.contains("until"),
+        "{s}"
+    );
+    let s = scenario(&["--steps", "500"]);
+    assert!(s.contains("\nsteps = 500\n") && !s.contains("until"), "{s}");
 }

@@ -13,7 +13,11 @@ fn tmp(name: &str) -> PathBuf {
     common::tmp_in("ripple-robust", name)
 }
 
-const SMALL: &[&str] = &["ripple", "--size", "32x16", "--layers", "10"];
+/// A small 3-D run with the paper's rules, whose thresholds, lattice and stops these tests
+/// measure.
+const SMALL: &[&str] = &[
+    "ripple", "--recipe", "paper", "--size", "32x16", "--layers", "10",
+];
 
 fn run(extra: &[&str]) -> std::process::Output {
     let mut a = SMALL.to_vec();
@@ -394,6 +398,8 @@ fn an_early_stop_is_recorded_with_until_and_the_missed_snapshots() {
     // steps, two doublings after its first quiet one)
     let until = [
         "ripple",
+        "--recipe",
+        "paper",
         "--size",
         "24x12",
         "--layers",

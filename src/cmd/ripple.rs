@@ -1,8 +1,9 @@
 //! `cellsurf ripple`: runs the sand-ripple volume generator ([`cellsurf::ripple`]) and writes
 //! the volume as NetCDF-3, `.npy` files or a Zarr v3 store; `--json` prints a summary.
 //!
-//! Parameters come from the defaults (the paper's Fig. 3 situation) or a built-in `--recipe`
-//! ([`cellsurf::ripple::recipe`]), or from a `--scenario` TOML file (`model = "ripple"` and the
+//! Parameters come from a built-in `--recipe` ([`cellsurf::ripple::recipe`]: by default the
+//! recipe for mature current ripples where the current dominates, the paper's rules and Fig. 3
+//! situation where the waves do), or from a `--scenario` TOML file (`model = "ripple"` and the
 //! same keys as the options, with underscores; unknown keys rejected), then the options given
 //! on the command line.
 
@@ -19,7 +20,7 @@ use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
-use cellsurf::ripple::recipe::Recipe;
+use cellsurf::ripple::recipe::{DEFAULT_CAP_S, Recipe};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -32,12 +33,14 @@ use cellsurf::ripple::{
 #[command(
     allow_negative_numbers = true,
     after_help = "Examples:\n  \
-        cellsurf ripple --out bed.nc                      # the paper's Fig. 3 situation\n  \
-        cellsurf ripple --size 64x32 --steps 2000 --out bed.npy --json\n  \
+        cellsurf ripple --out bed.nc          # mature current ripples: a 2.56 m section\n  \
+        cellsurf ripple --d50 0.3 --size 256x64 --out bed.nc   # a 3-D field, 64 x 16 cm\n  \
+        cellsurf ripple --recipe paper --out bed.nc            # the paper's Fig. 3 situation\n  \
+        cellsurf ripple --recipe paper --size 64x32 --steps 2000 --out bed.npy --json\n  \
         cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
-        cellsurf ripple --mode 2d --size 400x1 --abstraction shadow --out section.npy\n  \
+        cellsurf ripple --recipe paper --size 400x1 --abstraction shadow --out section.npy\n  \
         cellsurf ripple --print-scenario > r.toml && cellsurf ripple --scenario r.toml --d50 0.3\n  \
-        cellsurf ripple --recipe mature-current --mode 2d --size 1024x1 --until equilibrium --duration 6h --json"
+        cellsurf ripple --d50 0.4 --duration 6000s --json    # 6000 s, not until equilibrium"
 )]
 pub struct Args {
     /// Start from this scenario file (TOML, `model = "ripple"` and the same keys as the
@@ -45,20 +48,24 @@ pub struct Args {
     /// `wave_period` in steps or `wave_period_s`); options typed here override it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// Start from a built-in recipe of opt-in rules instead of the defaults: mature-current
-    /// (current ripples that stop growing, with slip faces, in bins of 2.5 mm; docs/ripple.md,
-    /// "A recipe for mature current ripples"); options typed here override it.
-    /// `--print-scenario` shows its keys.
+    /// Start from a built-in recipe: mature-current (current ripples of nature's size that stop
+    /// growing, with slip faces: a 2-D section of 1024 bins of 2.5 mm, 400 automata of 0.25
+    /// mm, run until equilibrium, at most 6 h; docs/ripple.md, "A recipe for mature current
+    /// ripples") or paper (the paper's rules in its Fig. 3 situation: 3-D, 128x64 bins of 5
+    /// mm, 30 automata of 0.5 mm, 10000 steps; its current ripples coarsen without end);
+    /// options typed here override it. `--print-scenario` shows its keys [default:
+    /// mature-current; paper where the waves' bed stress exceeds the current's].
     #[arg(long, value_name = "NAME", conflicts_with = "scenario")]
     recipe: Option<Recipe>,
-    /// 2d (one section along the current) or 3d [default: 3d].
+    /// 2d (one section along the current) or 3d [default: the recipe's (mature-current 2d,
+    /// paper 3d); with --size, 2d for NXx1 and 3d otherwise].
     #[arg(long)]
     mode: Option<Mode>,
     /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default: slices].
     #[arg(long)]
     abstraction: Option<Abstraction>,
-    /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: 128x64; NXx1 in
-    /// 2d].
+    /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: mature-current
+    /// 1024x1, 256x64 with --mode 3d; paper 128x64].
     #[arg(long, value_name = "NXxNY", value_parser = conv::size_in(params::SIZE_SIDES))]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
@@ -67,17 +74,21 @@ pub struct Args {
     /// Old spelling of the y part of --size (kept for one release).
     #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
-    /// Mean initial sand thickness, automata per column, 1 to 4096 [default: 30].
+    /// Mean initial sand thickness, automata per column, 1 to 4096 [default: mature-current
+    /// 400, paper 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
-    /// Horizontal bin size, m, above 0 and at most 100 [default: 0.005].
+    /// Horizontal bin size, m, above 0 and at most 100 [default: mature-current 0.0025, paper
+    /// 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
     /// Layer thickness gd, m, above 0 and at most --bin-size x tan(--avalanche-angle) (one
-    /// automaton over one bin no steeper than the avalanche angle) [default: 0.0005].
+    /// automaton over one bin no steeper than the avalanche angle) [default: mature-current
+    /// 0.00025, paper 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
-    /// Steps (`1e4` accepted), 0 to 2^40 [default: 10000].
+    /// Steps (`1e4` accepted), 0 to 2^40 [default: mature-current --until equilibrium
+    /// --duration 6h; paper 10000].
     #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(params::STEPS))]
     steps: Option<u64>,
     /// Simulated duration instead of --steps: seconds, or with a unit (`90s`, `30min`, `2h`,
@@ -292,8 +303,39 @@ pub fn scenario_seconds(
     Ok(s)
 }
 
-/// The run's parameters, and what it was asked for in seconds.
-fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
+/// The run's parameters, what it was asked for in seconds, and the recipe it started from
+/// (none: a scenario file). Without `--recipe` or `--scenario` the run starts from the recipe
+/// for mature current ripples where the current dominates the bed stress (or nothing moves),
+/// and from the paper's rules where the waves dominate (the recipe was not measured under
+/// waves; the lee vortex gives wave ripples their shape there).
+fn params(a: &Args) -> Result<(RippleParams, Seconds, Option<Recipe>)> {
+    if a.scenario.is_some() {
+        let (p, secs) = params_from(a, None)?;
+        return Ok((p, secs, None));
+    }
+    let recipe = a.recipe.unwrap_or_else(|| {
+        // (the waves' dominance does not depend on the recipe's keys: a quiet first reading)
+        let quiet = conv::quiet();
+        conv::set_quiet(true);
+        let waves = params_from(a, Some(Recipe::Paper)).is_ok_and(|(p, _)| p.waves_dominate());
+        conv::set_quiet(quiet);
+        if waves {
+            Recipe::Paper
+        } else {
+            Recipe::MatureCurrent
+        }
+    });
+    let (p, secs) = params_from(a, Some(recipe))?;
+    Ok((p, secs, Some(recipe)))
+}
+
+/// A 3-D run of a recipe whose domain is a 2-D section (`--mode 3d` without `--size`): 256 x
+/// 64 bins (64 x 16 cm in the recipe's bins of 2.5 mm).
+pub const RECIPE_3D_SIZE: (usize, usize) = (256, 64);
+
+/// The run's parameters from `recipe` (none: `--scenario`) and the options, and what it was
+/// asked for in seconds.
+fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Seconds)> {
     let mut secs = Seconds::default();
     let mut p = match &a.scenario {
         Some(path) => {
@@ -315,8 +357,13 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             RippleParams::from_table(t)
                 .map_err(|e| anyhow::anyhow!("in --scenario {}: {e}", path.display()))?
         }
-        None => a.recipe.map(Recipe::params).unwrap_or_default(),
+        None => recipe.unwrap_or(Recipe::Paper).params(),
     };
+    // a recipe's own length where none is given: until the field is mature, at most 6 h
+    if recipe.is_some_and(Recipe::runs_until_mature) && a.steps.is_none() && a.duration.is_none() {
+        secs.duration = Some((DEFAULT_CAP_S, "--duration".into()));
+        p.until = Some("equilibrium".into());
+    }
     // the command line's --steps and --duration win over the file's duration_s
     if a.steps.is_some() {
         secs.duration = None;
@@ -358,6 +405,19 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
     );
     if a.until.is_some() {
         p.until = a.until.clone();
+    }
+    // the mode from the size where none is named: NXx1 is a section, NXxNY a 3-D field
+    if let Some(h) = a
+        .size
+        .map(|s| s.h)
+        .or(a.ny)
+        .filter(|_| a.mode.is_none() && a.scenario.is_none())
+    {
+        p.mode = if h == 1 { Mode::TwoD } else { Mode::ThreeD };
+    }
+    if recipe.is_some() && p.mode == Mode::ThreeD && p.ny == 1 && a.size.is_none() && a.ny.is_none()
+    {
+        (p.nx, p.ny) = RECIPE_3D_SIZE;
     }
     if a.wave_angle.is_some() {
         p.wave_angle = a.wave_angle;
@@ -544,7 +604,10 @@ fn params(a: &Args) -> Result<(RippleParams, Seconds)> {
             p.current_speed
         ));
     }
-    if let Some(r) = a.recipe.filter(|_| p.waves_dominate()) {
+    if let Some(r) = a
+        .recipe
+        .filter(|&r| r == Recipe::MatureCurrent && p.waves_dominate())
+    {
         conv::note(format_args!(
             "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and its ripples were not measured under waves (its previous version's, in 5 mm bins, were 0.86-7.7 times the wave predictor's 0.62 d0; docs/ripple.md, \"A recipe for mature current ripples\")",
             p.wave_stress_amplitude(),
@@ -792,7 +855,7 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
-    let (p, secs) = params(&a)?;
+    let (p, secs, recipe) = params(&a)?;
     if a.print_scenario {
         // (the scenario holds the model; these choose what a run writes)
         let run_only = conv::given_flags(&[
@@ -1312,6 +1375,7 @@ pub fn run(a: Args) -> Result<()> {
             "bytes_per_automaton": r.bytes_per_automaton(),
         });
         let record = serde_json::json!({
+            "recipe": recipe.map(Recipe::name),
             "duration_s": secs.duration(),
             "until": p.until,
             "stop_step": r.time(),

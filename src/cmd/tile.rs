@@ -53,7 +53,7 @@ pub struct Args {
     #[arg(long)]
     generate: bool,
     /// --generate: the ripple scenario (TOML, as `cellsurf ripple --print-scenario` writes)
-    /// [default: the ripple defaults].
+    /// [default: the paper's rules, as `cellsurf ripple --recipe paper`].
     #[arg(long, value_name = "FILE.toml")]
     ripple_scenario: Option<PathBuf>,
     /// --generate: tile size in columns, NXxNY [default: the ripple scenario's, else 128x64].
@@ -308,7 +308,7 @@ fn check_regime(a: &Args, p: &RippleParams) -> Result<()> {
     let (lo, hi) = r.ripple_speeds;
     let from = match &a.ripple_scenario {
         Some(f) => format!("--ripple-scenario {}", f.display()),
-        None => "the ripple defaults".into(),
+        None => "the ripple defaults (the paper's rules)".into(),
     };
     let flow = format!(
         "current_speed = {} m/s with waves of near-bed orbital velocity wave_amplitude = {} m/s ({from})",

@@ -1,7 +1,8 @@
 //! Recipes: scenario files of opt-in rules that the docs measure, built into the program, so
 //! that `cellsurf ripple --recipe NAME` runs one without a copy of the repository.
 //!
-//! Principal type: [`Recipe`]. Its one recipe, [`Recipe::MatureCurrent`], is the file
+//! Principal type: [`Recipe`]. [`Recipe::Paper`] is the paper's rules and its Fig. 3
+//! situation, the library's [`RippleParams::default`]; [`Recipe::MatureCurrent`] is the file
 //! `docs/ripple_mature_current.toml` (docs/ripple.md, "A recipe for mature current ripples"):
 //! bins of 2.5 mm, 0.75-1.5 of the grains' flat-bed travel (1.6-3.4 mm at 0.5 m/s), a short
 //! exponential travel in grain diameters, the leading bed stress, flow separation, thicker
@@ -17,12 +18,23 @@ use std::str::FromStr;
 use super::RippleError;
 use super::params::RippleParams;
 
+/// The longest a run of a recipe that runs until its field is mature lasts by default,
+/// simulated seconds: 6 hours (the recipe's sections stop at 957-10,310 s at 0.1-0.4 mm;
+/// docs/ripple.md, "A recipe for mature current ripples").
+pub const DEFAULT_CAP_S: f64 = 21_600.0;
+
 /// The text of the recipe for mature current ripples (a ripple scenario file).
 pub const MATURE_CURRENT: &str = include_str!("../../docs/ripple_mature_current.toml");
 
-/// A recipe of opt-in rules: the parameters it starts a run from, in place of the defaults.
+/// A recipe: the parameters a run starts from. `cellsurf ripple` starts from
+/// [`Recipe::MatureCurrent`] where the current dominates the bed stress and from
+/// [`Recipe::Paper`] where the waves do, unless `--recipe` or `--scenario` says otherwise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Recipe {
+    /// `paper`: the paper's rules in its Fig. 3 situation (3-D, 128 x 64 bins of 5 mm, 30
+    /// automata of 0.5 mm, 10,000 steps), [`RippleParams::default`]; current ripples coarsen
+    /// without end under them (docs/ripple.md).
+    Paper,
     /// `mature-current`: current ripples that stop growing ([`MATURE_CURRENT`]).
     MatureCurrent,
 }
@@ -31,13 +43,15 @@ impl Recipe {
     /// The name used on the command line.
     pub fn name(self) -> &'static str {
         match self {
+            Recipe::Paper => "paper",
             Recipe::MatureCurrent => "mature-current",
         }
     }
 
-    /// Its scenario file's text.
+    /// Its scenario file's text (the paper's: none, every key at its default).
     pub fn text(self) -> &'static str {
         match self {
+            Recipe::Paper => "",
             Recipe::MatureCurrent => MATURE_CURRENT,
         }
     }
@@ -46,17 +60,26 @@ impl Recipe {
     pub fn params(self) -> RippleParams {
         RippleParams::from_toml(self.text()).expect("a built-in recipe is a valid scenario")
     }
+
+    /// Whether a run of it without a length (`--steps`, `--duration`) runs until the field is
+    /// mature (`--until equilibrium`, capped at [`DEFAULT_CAP_S`]) rather than for the default
+    /// steps: the recipe for mature current ripples does, the paper's rules (whose fields
+    /// coarsen without end) do not.
+    pub fn runs_until_mature(self) -> bool {
+        self == Recipe::MatureCurrent
+    }
 }
 
 impl FromStr for Recipe {
     type Err = RippleError;
     fn from_str(s: &str) -> Result<Self, RippleError> {
         match s {
+            "paper" => Ok(Recipe::Paper),
             "mature-current" => Ok(Recipe::MatureCurrent),
             _ => Err(RippleError::Unknown {
                 parameter: "recipe",
                 value: s.to_string(),
-                expected: "mature-current",
+                expected: "paper or mature-current",
             }),
         }
     }
@@ -97,12 +120,25 @@ mod tests {
         assert!(p.validate().is_ok());
     }
 
+    /// The paper's recipe is the library's defaults, and only the recipe for mature current
+    /// ripples runs until its field is mature by default.
+    #[test]
+    fn the_paper_recipe_is_the_defaults() {
+        assert_eq!(Recipe::Paper.params(), RippleParams::default());
+        assert!(!Recipe::Paper.runs_until_mature());
+        assert!(Recipe::MatureCurrent.runs_until_mature());
+    }
+
     #[test]
     fn recipe_names_round_trip_and_unknown_names_are_refused() {
-        let r: Recipe = "mature-current".parse().unwrap();
-        assert_eq!(r, Recipe::MatureCurrent);
-        assert_eq!(r.to_string(), "mature-current");
+        for r in [Recipe::Paper, Recipe::MatureCurrent] {
+            assert_eq!(r.name().parse::<Recipe>().unwrap(), r);
+            assert_eq!(r.to_string(), r.name());
+        }
         let e = "mature".parse::<Recipe>().unwrap_err().to_string();
-        assert!(e.contains("recipe") && e.contains("mature-current"), "{e}");
+        assert!(
+            e.contains("recipe") && e.contains("mature-current") && e.contains("paper"),
+            "{e}"
+        );
     }
 }
