@@ -965,7 +965,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         se.label.clear();
         [mean, se]
     };
-    let recipe_label = format!("recipe (the default), 2-D 2.56 m, {RECIPE_SECONDS} s");
+    let recipe_label = format!("recipe (the default's rules), 2-D 2.56 m, {RECIPE_SECONDS} s");
     let mut wl = model_series(
         &format!("paper's rules, 96 x 24 cm, {t1} s"),
         &d50,
