@@ -37,6 +37,8 @@ fn tiles_from_a_ripple_file_with_volume() {
     let r = tmp("r.nc");
     let o = cellsurf(&[
         "ripple",
+        "--recipe",
+        "paper",
         "--nx",
         "24",
         "--ny",
@@ -179,7 +181,9 @@ fn bad_input_is_named() {
 fn current_angle_on_file_tiles_needs_dunes() {
     // tiles read from a file keep their current: without --dunes the angle would do nothing
     let r = tmp("angle-r.nc");
-    let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+    let mut g = vec![
+        "ripple", "--recipe", "paper", "--nx", "24", "--ny", "12", "--layers", "10",
+    ];
     g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
     assert!(cellsurf(&g).status.success());
     let base = ["tile", "--tile", r.to_str().unwrap(), "--mosaic", "2x2"];
@@ -399,7 +403,9 @@ fn a_generated_mosaic_records_its_ripple_runs_and_reproduces_from_them() {
 fn nc_ripple() -> PathBuf {
     let r = tmp("small-ripple.nc");
     if !r.exists() {
-        let mut g = vec!["ripple", "--nx", "24", "--ny", "12", "--layers", "10"];
+        let mut g = vec![
+            "ripple", "--recipe", "paper", "--nx", "24", "--ny", "12", "--layers", "10",
+        ];
         g.extend(["--steps", "20", "--quiet", "--out", r.to_str().unwrap()]);
         let o = cellsurf(&g);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -661,4 +667,30 @@ fn a_ripple_scenario_in_seconds_generates_the_ripple_runs_of_it() {
     );
     assert!(run["steps"].as_u64().unwrap() > 1000, "{run}");
     assert_eq!(tile(&["--steps", "50"])["ripple_steps"], 50);
+}
+
+/// A ripple scenario's stop at equilibrium is not applied to `--generate` runs, which run their
+/// whole length: said in a warning, not dropped silently.
+#[test]
+fn generated_tiles_warn_that_until_is_not_applied() {
+    let scene = tmp("until-scene.toml");
+    std::fs::write(
+        &scene,
+        "model = \"ripple\"\nnx = 24\nny = 12\nlayers = 10\nsteps = 40\nuntil = \"equilibrium\"\n",
+    )
+    .unwrap();
+    let o = cellsurf(&[
+        "tile",
+        "--generate",
+        "--ripple-scenario",
+        scene.to_str().unwrap(),
+        "--extent",
+        "0.24x0.12",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("until = \"equilibrium\" is not applied") && err.contains("40 steps"),
+        "{err}"
+    );
 }

@@ -277,6 +277,12 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         );
     }
     p.validate()?;
+    if let Some(u) = &p.until {
+        conv::note(format_args!(
+            "warning: the ripple scenario's until = \"{u}\" is not applied to the --generate runs: each runs its whole length, {} steps (the scenario's steps or duration_s, or --steps)",
+            p.steps
+        ));
+    }
     for &seed in &run_seeds(a) {
         let flag = if a.seeds.is_some() {
             "--seeds"
