@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Ripple shape at the defaults (the paper's Fig. 3 situation) and its variants, seeds 1-3:
+# Ripple shape with the paper's rules in its Fig. 3 situation (`--recipe paper`) and its variants, seeds 1-3:
 # wavelength, height, ripple index, lee/stoss slopes, symmetry index, crest normal and the
 # crest/trough d50, against Soulsby & Whitehouse (2005). Prints one line per run (JSON keys of
 # `cellsurf ripple --json`). Usage: bash bench/ripple_shape.sh [extra cellsurf ripple flags]
@@ -10,7 +10,7 @@ bin=target/release/cellsurf
 keys='wavelength_m height_m ripple_index lee_slope_deg stoss_slope_deg symmetry_index crest_normal_deg d50_crest_mm d50_trough_mm mass_change elapsed_s'
 run() {
   local label="$1"; shift
-  "$bin" ripple --json --quiet "$@" | python3 -c "
+  "$bin" ripple --recipe paper --json --quiet "$@" | python3 -c "
 import json, sys
 d = json.load(sys.stdin)
 print('$label'.ljust(34), ' '.join(f'{k}={d[k]:.4g}' if isinstance(d[k], float) else f'{k}={d[k]}' for k in '$keys'.split()))

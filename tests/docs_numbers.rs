@@ -538,11 +538,12 @@ fn readme(s: &Study) -> Vec<String> {
         }
     }
     for &d50 in &D50_MM {
-        // the default under a current, the recipe for mature current ripples: the study's
-        // series 5 (wavelength, height), 6 and 8 (ripple and symmetry index)
+        // the recipe for mature current ripples (the default's rules under a current) after
+        // 6000 s: the study's series 5 (wavelength, height), 6 and 8 (ripple and symmetry
+        // index)
         let case = format!("current, d50 {d50} mm, the default");
         let Some(r) = c.row(&format!(
-            "| current 0.5 m/s, d50 {d50} mm, the default (the recipe), after 6000 s |"
+            "| current 0.5 m/s, d50 {d50} mm, the recipe (the default's rules), after 6000 s |"
         )) else {
             continue;
         };

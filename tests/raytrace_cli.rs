@@ -140,6 +140,8 @@ fn seafloor_from_a_ripple_file() {
     let ins = tmp("from_nc.csv");
     let o = cellsurf(&[
         "ripple",
+        "--recipe",
+        "paper",
         "--nx",
         "24",
         "--ny",
@@ -1274,6 +1276,8 @@ fn a_ripple_netcdf_file_and_its_zarr_store_give_the_same_section() {
     for out in [&nc, &zarr] {
         let o = cellsurf(&[
             "ripple",
+            "--recipe",
+            "paper",
             "--size",
             "32x16",
             "--layers",

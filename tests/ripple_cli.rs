@@ -31,7 +31,8 @@ const WAVES: [&str; 6] = [
 ];
 
 const SMALL: &[&str] = &[
-    "ripple", "--size", "24x12", "--layers", "10", "--steps", "40", "--seed", "3",
+    "ripple", "--recipe", "paper", "--size", "24x12", "--layers", "10", "--steps", "40", "--seed",
+    "3",
 ];
 
 #[test]
@@ -1444,6 +1445,63 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     );
     let s = scenario(&["--mode", "3d"]);
     assert!(s.contains("\nnx = 256\nny = 64\n"), "{s}");
+    // the old spelling of the x side keeps it, the y side from the 3-D default
+    let s = scenario(&["--nx", "512", "--mode", "3d"]);
+    assert!(s.contains("\nnx = 512\nny = 64\n"), "{s}");
+    // the waves' dominance read from the options, even where the paper's lattice would be
+    // refused (here too many automata slots for 64 rows): still the paper's rules, refused
+    let mut a = vec![
+        "ripple",
+        "--nx",
+        "65536",
+        "--layers",
+        "4000",
+        "--print-scenario",
+    ];
+    a.extend(WAVES);
+    let o = cellsurf(&a);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("65536 x 64"), "{err}");
+    // options that leave the recipe's flow separation no room, or a direction across its
+    // section: refused, saying what the recipe has to do with it
+    for (extra, says) in [
+        (&["--abstraction", "shadow"][..], "--recipe paper"),
+        (&["--avalanche-angle", "15"][..], "--recipe paper"),
+        (&["--current-angle", "30"][..], "--mode 3d"),
+    ] {
+        let mut a = vec!["ripple", "--print-scenario"];
+        a.extend_from_slice(extra);
+        let o = cellsurf(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            o.status.code() == Some(1) && err.contains("mature-current") && err.contains(says),
+            "{extra:?}: {err}"
+        );
+    }
+    // the printed default reruns the same run, its stop and cap with it
+    let dir = std::env::temp_dir().join(format!("cellsurf-default-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("default.toml");
+    std::fs::write(&file, scenario(&["--size", "256x1", "--seed", "1"])).unwrap();
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        file.to_str().unwrap(),
+        "--json",
+        "--quiet",
+    ]);
+    let w: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for key in [
+        "parameters",
+        "stop_step",
+        "wavelength_m",
+        "height_m",
+        "until",
+    ] {
+        assert_eq!(v[key], w[key], "{key}");
+    }
+    assert!(w["recipe"].is_null());
+    let _ = std::fs::remove_dir_all(&dir);
     // a typed length: that long, no stop
     let s = scenario(&["--duration", "600s"]);
     assert!(

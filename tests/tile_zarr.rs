@@ -399,7 +399,7 @@ const SMALL_RUN: [&str; 8] = [
 /// A ripple file of [`SMALL_RUN`], remade under the same name.
 fn ripple_file(out: &Path, seed: &str) {
     let out = out.display().to_string();
-    let mut a = vec!["ripple"];
+    let mut a = vec!["ripple", "--recipe", "paper"];
     a.extend(SMALL_RUN);
     a.extend(["--seed", seed, "--quiet", "--out", &out]);
     let o = cellsurf(&a);

@@ -118,6 +118,8 @@ fn xarray_reads_the_ripple_store() {
         let o = out.display().to_string();
         let r = cellsurf(&[
             "ripple",
+            "--recipe",
+            "paper",
             "--size",
             "40x16",
             "--layers",

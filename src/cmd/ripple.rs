@@ -58,10 +58,11 @@ pub struct Args {
     #[arg(long, value_name = "NAME", conflicts_with = "scenario")]
     recipe: Option<Recipe>,
     /// 2d (one section along the current) or 3d [default: the recipe's (mature-current 2d,
-    /// paper 3d); with --size, 2d for NXx1 and 3d otherwise].
+    /// paper 3d); with --size and no --scenario, 2d for NXx1 and 3d otherwise].
     #[arg(long)]
     mode: Option<Mode>,
-    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3) [default: slices].
+    /// Hydrodynamics: slices (water volume, Sect. 2.3) or shadow (Eq. 3; not with the flow
+    /// separation of --recipe mature-current: give --recipe paper) [default: slices].
     #[arg(long)]
     abstraction: Option<Abstraction>,
     /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: mature-current
@@ -102,7 +103,8 @@ pub struct Args {
     /// --steps or --duration is the cap. Recorded as `until` in the parameters, with the step
     /// and reason of the stop in the output. A field that pauses for long while it coarsens
     /// can still pass the test (docs/ripple.md "Until equilibrium"): check maturity on a
-    /// longer run.
+    /// longer run [default: equilibrium, at most 6 h, with --recipe mature-current and no
+    /// --steps or --duration; otherwise none].
     #[arg(long, value_name = "WHEN", value_parser = ["equilibrium"])]
     until: Option<String>,
     /// Fraction of automata triggered per step, above 0 and at most 1 [default: 0.001].
@@ -306,27 +308,79 @@ pub fn scenario_seconds(
 /// The run's parameters, what it was asked for in seconds, and the recipe it started from
 /// (none: a scenario file). Without `--recipe` or `--scenario` the run starts from the recipe
 /// for mature current ripples where the current dominates the bed stress (or nothing moves),
-/// and from the paper's rules where the waves dominate (the recipe was not measured under
-/// waves; the lee vortex gives wave ripples their shape there).
+/// and from the paper's rules where the waves dominate (under waves the recipe's ripples do
+/// not follow the orbit; the lee vortex gives wave ripples their shape there).
 fn params(a: &Args) -> Result<(RippleParams, Seconds, Option<Recipe>)> {
     if a.scenario.is_some() {
         let (p, secs) = params_from(a, None)?;
         return Ok((p, secs, None));
     }
-    let recipe = a.recipe.unwrap_or_else(|| {
-        // (the waves' dominance does not depend on the recipe's keys: a quiet first reading)
-        let quiet = conv::quiet();
-        conv::set_quiet(true);
-        let waves = params_from(a, Some(Recipe::Paper)).is_ok_and(|(p, _)| p.waves_dominate());
-        conv::set_quiet(quiet);
-        if waves {
-            Recipe::Paper
-        } else {
-            Recipe::MatureCurrent
-        }
+    let recipe = a.recipe.unwrap_or(if waves_dominate_asked(a) {
+        Recipe::Paper
+    } else {
+        Recipe::MatureCurrent
     });
-    let (p, secs) = params_from(a, Some(recipe))?;
+    let (p, secs) = params_from(a, Some(recipe)).map_err(|e| recipe_hint(e, a, recipe))?;
     Ok((p, secs, Some(recipe)))
+}
+
+/// Whether the waves typed on the command line rub the bed harder than the current
+/// ([`RippleParams::waves_dominate`]), from the options alone, as [`params_from`] sets them:
+/// the orbital velocity (`--wave-velocity`, or linear theory from `--wave-height`), the waves'
+/// friction factor (`--wave-friction-factor`, or Soulsby's Eq. 60a with `--wave-period`) and
+/// the current (none of them is a key of a recipe). Bad wave input counts as no waves; the
+/// run's own reading then names it.
+fn waves_dominate_asked(a: &Args) -> bool {
+    let base = RippleParams::default();
+    let d50_m = a.d50.unwrap_or(base.d50) * 1e-3;
+    let u_w = match (
+        a.wave_amplitude,
+        a.wave_height,
+        a.wave_period,
+        a.water_depth,
+    ) {
+        (Some(u), _, _, _) => u,
+        (None, Some(h), Some(t), Some(d)) => {
+            SurfaceWave::new(h, t, d).map_or(0.0, |w| w.orbital_velocity())
+        }
+        _ => 0.0,
+    };
+    let f_w = match (a.wave_friction_factor, a.wave_period) {
+        (Some(f), _) => f,
+        (None, Some(t)) if u_w > 0.0 && t > 0.0 => wave_friction_factor(u_w, t, d50_m),
+        _ => 0.0,
+    };
+    RippleParams {
+        current_speed: a.current_speed.unwrap_or(base.current_speed),
+        wave_amplitude: u_w,
+        wave_friction_factor: f_w,
+        ..base
+    }
+    .waves_dominate()
+}
+
+/// An error of a run that started from `recipe` (not a scenario), with what the recipe has to
+/// do with it: a key of the recipe that the options typed leave no room for (flow separation
+/// with `--abstraction shadow`, or with an avalanche angle or bins that hold no drop of two
+/// automata), or the recipe's 2-D section where the options ask for a direction across it.
+fn recipe_hint(e: anyhow::Error, a: &Args, recipe: Recipe) -> anyhow::Error {
+    let text = e.to_string();
+    let given = a.recipe.map_or_else(
+        || format!("the default under a current (--recipe {recipe})"),
+        |r| format!("--recipe {r}"),
+    );
+    if recipe == Recipe::MatureCurrent && text.starts_with("separation_angle") {
+        return anyhow::anyhow!(
+            "{text}. separation_angle (flow separation) is a key of {given}, and the options typed leave it no room: give --recipe paper for the paper's rules, or run a scenario file (`--print-scenario`) with separation_angle = 0"
+        );
+    }
+    let sized = a.mode.is_some() || a.size.is_some() || a.nx.is_some() || a.ny.is_some();
+    if recipe.params().mode == Mode::TwoD && !sized && text.contains("2-D mode") {
+        return anyhow::anyhow!(
+            "{text}. The run is a 2-D section because {given} is one: give --size NXxNY (NY above 1) or --mode 3d for a 3-D field"
+        );
+    }
+    e
 }
 
 /// A 3-D run of a recipe whose domain is a 2-D section (`--mode 3d` without `--size`): 256 x
@@ -415,9 +469,14 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
     {
         p.mode = if h == 1 { Mode::TwoD } else { Mode::ThreeD };
     }
-    if recipe.is_some() && p.mode == Mode::ThreeD && p.ny == 1 && a.size.is_none() && a.ny.is_none()
-    {
-        (p.nx, p.ny) = RECIPE_3D_SIZE;
+    // a recipe's 2-D section run in 3-D: the sides not typed (old spellings) from RECIPE_3D_SIZE
+    if recipe.is_some() && p.mode == Mode::ThreeD && p.ny == 1 && a.size.is_none() {
+        if a.nx.is_none() {
+            p.nx = RECIPE_3D_SIZE.0;
+        }
+        if a.ny.is_none() {
+            p.ny = RECIPE_3D_SIZE.1;
+        }
     }
     if a.wave_angle.is_some() {
         p.wave_angle = a.wave_angle;
@@ -609,7 +668,7 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         .filter(|&r| r == Recipe::MatureCurrent && p.waves_dominate())
     {
         conv::note(format_args!(
-            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and its ripples were not measured under waves (its previous version's, in 5 mm bins, were 0.86-7.7 times the wave predictor's 0.62 d0; docs/ripple.md, \"A recipe for mature current ripples\")",
+            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and under waves its ripples do not follow the orbit (0.3 mm sand, U_w = 0.4 m/s, 8000 s: 2.2 and 0.72 times the wave predictor's 0.62 d0 at d0 = 0.2 and 0.4 m; docs/ripple.md, \"A recipe for mature current ripples\"); without --recipe such a run starts from the paper's rules with the lee vortex",
             p.wave_stress_amplitude(),
             p.current_speed
         ));
@@ -1191,7 +1250,18 @@ pub fn run(a: Args) -> Result<()> {
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> "),
     );
-    bar.set_message(format!("ripple {}x{}x{}", p.nx, p.rows(), p.layers));
+    bar.set_message(format!(
+        "ripple {}x{}x{}{}",
+        p.nx,
+        p.rows(),
+        p.layers,
+        // (the bar runs to the cap; the run may stop at any checkpoint from 4000 steps)
+        if p.until.is_some() {
+            ", until equilibrium (the bar and ETA to the cap)"
+        } else {
+            ""
+        }
+    ));
     let silent = a.quiet || a.json;
     let mut shown = false;
     let progress = |done: u64| {
@@ -1391,11 +1461,16 @@ pub fn run(a: Args) -> Result<()> {
         outln!("{}", serde_json::to_string(&v)?)?;
     } else {
         outln!(
-            "ripple: {} steps ({}), {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
+            "ripple: {} steps ({}{}), {} automata, {} activations in {elapsed:.2} s; wavelength {:.4} m, height {:.4} m, ripple index {:.1}, lee {:.1} deg, stoss {:.1} deg, symmetry index {:.2}, crest normal {:.0} deg, d50 crest/trough {:.3}/{:.3} mm, mass change {}",
             s.steps,
             match clock {
                 Some(c) => format!("{:.0} s simulated", c.step_s * s.steps as f64),
                 None => regime_name.to_string(),
+            },
+            match stop_reason {
+                "equilibrium" => ", stopped at equilibrium",
+                "cap (steps)" => ", the cap: no equilibrium",
+                _ => "",
             },
             r.automata(),
             s.activations,

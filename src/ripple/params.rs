@@ -949,7 +949,7 @@ impl RippleParams {
                     "separation_angle",
                     shown(self.separation_angle),
                     &format!(
-                        "0 (off) here: flow separation needs a drop of 2 automata or more over a bin that the avalanche angle lets stand, and here tan(avalanche_angle) x bin_size / layer_thickness = {:.2} automata (avalanche_angle = {} deg, bin_size = {} m, layer_thickness = {} m); a thinner layer_thickness, a larger bin_size or a steeper avalanche_angle gives it room",
+                        "0 (off) here: flow separation needs a drop of 2 automata or more over a bin that the avalanche angle lets stand, and here tan(avalanche_angle) x bin_size / layer_thickness = {:.4} automata (avalanche_angle = {} deg, bin_size = {} m, layer_thickness = {} m); a thinner layer_thickness, a larger bin_size or a steeper avalanche_angle gives it room",
                         self.avalanche_angle.to_radians().tan() / per_automaton,
                         shown(self.avalanche_angle),
                         shown(self.bin_size),
@@ -1153,7 +1153,7 @@ mod tests {
         assert!(
             e.starts_with("separation_angle = 15")
                 && e.contains("0 (off) here")
-                && e.contains("1.46 automata"),
+                && e.contains("1.4559 automata"),
             "{e}"
         );
         let mut ok = RippleParams {
