@@ -945,7 +945,7 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
 }
 
 /// A bin longer than half the lee face of the predicted ripple (`H / (2 tan alpha)`) gets a
-/// warning naming the bin, that length and the predicted height; the default bin gets none.
+/// warning naming the bin, that length and the predicted height; bins of 5 mm and 1 cm get none.
 #[test]
 fn bin_longer_than_half_the_predicted_lee_face_is_warned() {
     // stderr of a run that succeeds, on 64 x 8 bins of `bin` m (automata of a tenth of it)
@@ -1426,7 +1426,15 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         String::from_utf8_lossy(&o.stdout).to_string()
     };
-    // waves dominating: the paper's rules, 5 mm bins, the fixed steps
+    // waves dominating: the paper's rules, 5 mm bins, the fixed steps, and the JSON says so
+    let mut a = vec![
+        "ripple", "--size", "24x12", "--layers", "10", "--steps", "20", "--json",
+    ];
+    a.extend(WAVES);
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let w: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(w["recipe"], "paper");
     let s = scenario(&WAVES);
     assert!(
         s.contains("\nbin_size = 0.005\n") && !s.contains("until") && !s.contains("hop_grains"),
@@ -1445,6 +1453,8 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     );
     let s = scenario(&["--mode", "3d"]);
     assert!(s.contains("\nnx = 256\nny = 64\n"), "{s}");
+    let s = scenario(&["--mode", "3d", "--ny", "32"]);
+    assert!(s.contains("\nnx = 256\nny = 32\n"), "{s}");
     // the old spelling of the x side keeps it, the y side from the 3-D default
     let s = scenario(&["--nx", "512", "--mode", "3d"]);
     assert!(s.contains("\nnx = 512\nny = 64\n"), "{s}");
@@ -1490,6 +1500,7 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         "--json",
         "--quiet",
     ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let w: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     for key in [
         "parameters",

@@ -670,27 +670,46 @@ fn a_ripple_scenario_in_seconds_generates_the_ripple_runs_of_it() {
 }
 
 /// A ripple scenario's stop at equilibrium is not applied to `--generate` runs, which run their
-/// whole length: said in a warning, not dropped silently.
+/// whole length: said in a warning, not dropped silently; a 2-D section's scenario is refused.
 #[test]
-fn generated_tiles_warn_that_until_is_not_applied() {
+fn generated_tiles_warn_that_until_is_not_applied_and_refuse_sections() {
     let scene = tmp("until-scene.toml");
-    std::fs::write(
-        &scene,
-        "model = \"ripple\"\nnx = 24\nny = 12\nlayers = 10\nsteps = 40\nuntil = \"equilibrium\"\n",
-    )
-    .unwrap();
-    let o = cellsurf(&[
-        "tile",
-        "--generate",
-        "--ripple-scenario",
-        scene.to_str().unwrap(),
-        "--extent",
-        "0.24x0.12",
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{err}");
+    // a --generate run of the scenario `text`, with `extra` options: its status and stderr
+    let generate = |text: &str, extra: &[&str]| {
+        std::fs::write(
+            &scene,
+            format!("model = \"ripple\"\nlayers = 10\nsteps = 40\n{text}"),
+        )
+        .unwrap();
+        let mut a = vec![
+            "tile",
+            "--generate",
+            "--ripple-scenario",
+            scene.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        let o = cellsurf(&a);
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, err) = generate(
+        "nx = 24\nny = 12\nuntil = \"equilibrium\"\n",
+        &["--extent", "0.24x0.12"],
+    );
+    assert_eq!(code, Some(0), "{err}");
     assert!(
         err.contains("until = \"equilibrium\" is not applied") && err.contains("40 steps"),
+        "{err}"
+    );
+    // a 2-D section's scenario (the ripple command's default prints one) makes no tiles
+    let (code, err) = generate(
+        "mode = \"2d\"\nnx = 64\nny = 1\n",
+        &["--size", "32x8", "--extent", "0.32x0.08"],
+    );
+    assert!(
+        code == Some(1) && err.contains("mode = \"2d\" is out of range for --generate"),
         "{err}"
     );
 }

@@ -34,7 +34,7 @@ use cellsurf::ripple::{
     allow_negative_numbers = true,
     after_help = "Examples:\n  \
         cellsurf ripple --out bed.nc          # mature current ripples: a 2.56 m section\n  \
-        cellsurf ripple --d50 0.3 --size 256x64 --out bed.nc   # a 3-D field, 64 x 16 cm\n  \
+        cellsurf ripple --size 256x64 --out bed.nc   # a 3-D field, 64 x 16 cm: minutes\n  \
         cellsurf ripple --recipe paper --out bed.nc            # the paper's Fig. 3 situation\n  \
         cellsurf ripple --recipe paper --size 64x32 --steps 2000 --out bed.npy --json\n  \
         cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
@@ -369,13 +369,48 @@ fn recipe_hint(e: anyhow::Error, a: &Args, recipe: Recipe) -> anyhow::Error {
         || format!("the default under a current (--recipe {recipe})"),
         |r| format!("--recipe {r}"),
     );
-    if recipe == Recipe::MatureCurrent && text.starts_with("separation_angle") {
+    let range = match e.downcast_ref::<cellsurf::ripple::RippleError>() {
+        Some(cellsurf::ripple::RippleError::Range {
+            parameter,
+            expected,
+            ..
+        }) => Some((*parameter, expected.as_str())),
+        _ => None,
+    };
+    if recipe == Recipe::MatureCurrent && range.is_some_and(|(k, _)| k == "separation_angle") {
+        let typed = conv::given_flags(&[
+            ("abstraction", "--abstraction", a.abstraction.is_some()),
+            (
+                "avalanche_angle",
+                "--avalanche-angle",
+                a.avalanche_angle.is_some(),
+            ),
+            ("bin_size", "--bin-size", a.bin_size.is_some()),
+            (
+                "layer_thickness",
+                "--layer-thickness",
+                a.layer_thickness.is_some(),
+            ),
+        ]);
         return anyhow::anyhow!(
-            "{text}. separation_angle (flow separation) is a key of {given}, and the options typed leave it no room: give --recipe paper for the paper's rules, or run a scenario file (`--print-scenario`) with separation_angle = 0"
+            "{text}. This separation_angle (flow separation) comes from {given}, and {} it out of range: give --recipe paper for the paper's rules, or a scenario file with the recipe's keys (docs/ripple_mature_current.toml) and a separation_angle in range",
+            if typed.is_empty() {
+                "the options typed put".to_string()
+            } else {
+                format!(
+                    "{} as typed here put{}",
+                    typed.join(" and "),
+                    if typed.len() == 1 { "s" } else { "" }
+                )
+            }
         );
     }
-    let sized = a.mode.is_some() || a.size.is_some() || a.nx.is_some() || a.ny.is_some();
-    if recipe.params().mode == Mode::TwoD && !sized && text.contains("2-D mode") {
+    // (the mode follows --mode, --size or --ny; --nx alone keeps the recipe's)
+    let sized = a.mode.is_some() || a.size.is_some() || a.ny.is_some();
+    if recipe.params().mode == Mode::TwoD
+        && !sized
+        && range.is_some_and(|(_, expected)| expected.contains("2-D mode"))
+    {
         return anyhow::anyhow!(
             "{text}. The run is a 2-D section because {given} is one: give --size NXxNY (NY above 1) or --mode 3d for a 3-D field"
         );
@@ -470,7 +505,7 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         p.mode = if h == 1 { Mode::TwoD } else { Mode::ThreeD };
     }
     // a recipe's 2-D section run in 3-D: the sides not typed (old spellings) from RECIPE_3D_SIZE
-    if recipe.is_some() && p.mode == Mode::ThreeD && p.ny == 1 && a.size.is_none() {
+    if recipe.is_some_and(|r| r.params().ny == 1) && p.mode == Mode::ThreeD && a.size.is_none() {
         if a.nx.is_none() {
             p.nx = RECIPE_3D_SIZE.0;
         }

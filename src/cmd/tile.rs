@@ -247,6 +247,14 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         .try_into()
         .context("the --generate options")?;
     o.apply(&mut p);
+    // tiles are 3-D fields: a scenario of a 2-D section (as `cellsurf ripple --print-scenario`
+    // writes for its default) would make tiles of one row
+    if let (Some(path), cellsurf::ripple::Mode::TwoD) = (&a.ripple_scenario, p.mode) {
+        bail!(
+            "--ripple-scenario {}: mode = \"2d\" is out of range for --generate: expected \"3d\" (tiles are 3-D fields; print one with `cellsurf ripple --size NXxNY --print-scenario`, NY above 1, or `cellsurf ripple --recipe paper --print-scenario`)",
+            path.display()
+        );
+    }
     // --steps typed wins over the scenario's duration_s
     if a.steps.is_some() {
         secs.duration = None;
@@ -277,7 +285,8 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         );
     }
     p.validate()?;
-    if let Some(u) = &p.until {
+    if let Some(u) = p.until.take() {
+        // (and not recorded: the tiles' record is the runs that were made)
         conv::note(format_args!(
             "warning: the ripple scenario's until = \"{u}\" is not applied to the --generate runs: each runs its whole length, {} steps (the scenario's steps or duration_s, or --steps)",
             p.steps
