@@ -1522,3 +1522,36 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     let s = scenario(&["--steps", "500"]);
     assert!(s.contains("\nsteps = 500\n") && !s.contains("until"), "{s}");
 }
+
+/// The defaults `--help` gives for each recipe are the recipes' own values (the help's text
+/// is written by hand).
+#[test]
+fn help_gives_each_recipes_own_defaults() {
+    use cellsurf::ripple::recipe::Recipe;
+    let o = cellsurf(&["ripple", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let (m, p) = (Recipe::MatureCurrent.params(), Recipe::Paper.params());
+    for said in [
+        format!("[default: mature-current {}x{},", m.nx, m.ny),
+        format!("paper {}x{}]", p.nx, p.ny),
+        format!("[default: mature-current {}, paper {}]", m.layers, p.layers),
+        format!(
+            "[default: mature-current {}, paper {}]",
+            m.bin_size, p.bin_size
+        ),
+        format!(
+            "[default: mature-current {}, paper {}]",
+            m.layer_thickness, p.layer_thickness
+        ),
+        format!("paper {}]", p.steps),
+        format!(
+            "at most {} h",
+            cellsurf::ripple::recipe::DEFAULT_CAP_S / 3600.0
+        ),
+    ] {
+        assert!(help.contains(&said), "{said}: {help}");
+    }
+}
