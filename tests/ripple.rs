@@ -870,10 +870,18 @@ fn seed_beyond_2_pow_53_is_refused_and_a_2d_section_runs_either_way() {
         current_angle: angle,
         ..RippleParams::default()
     };
-    let e = Ripple::new(&two_d(90.0)).err().unwrap().to_string();
+    // in the grid frame a section runs only along its x axis
+    let e = Ripple::new(&RippleParams {
+        frame: cellsurf::ripple::Frame::Grid,
+        ..two_d(90.0)
+    })
+    .err()
+    .unwrap()
+    .to_string();
     assert!(e.starts_with("current_angle = 90 is out of range"), "{e}");
-    // 180 deg: the grains roll towards -x.
-    for (angle, sign) in [(0.0, 1.0), (180.0, -1.0)] {
+    // 180 deg: the grains roll towards -x; in the flow frame (the default) a section runs
+    // along any current, towards +x or -x
+    for (angle, sign) in [(0.0, 1.0), (180.0, -1.0), (90.0, 1.0), (200.0, -1.0)] {
         let r = Ripple::new(&two_d(angle)).unwrap();
         let f = r.flow_at(0);
         assert!((f.angle.cos() - sign).abs() < 1e-12, "{angle}: {}", f.angle);

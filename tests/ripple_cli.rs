@@ -1379,6 +1379,127 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
     );
 }
 
+/// `cellsurf ripple EXTRA --print-scenario`, which must succeed: its scenario file and its
+/// standard error.
+fn printed_scenario(extra: &[&str]) -> (String, String) {
+    let mut a = vec!["ripple"];
+    a.extend_from_slice(extra);
+    a.push("--print-scenario");
+    let o = cellsurf(&a);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (
+        String::from_utf8_lossy(&o.stdout).to_string(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+/// A 2-D section runs along the current whatever its direction (the flow frame): rotating
+/// the current rotates the section and its crests, not its physics (the same bed, byte for
+/// byte, as along the x axis), and the outputs say where its x axis points.
+#[test]
+fn an_oblique_current_runs_its_section_along_it() {
+    let run = |angle: &str| {
+        let o = cellsurf(&[
+            "ripple",
+            "--size",
+            "128x1",
+            "--current-angle",
+            angle,
+            "--duration",
+            "300",
+            "--seed",
+            "2",
+            "--json",
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    for (a, along, x_axis) in [("30", "0", 30.0), ("150", "180", 330.0)] {
+        let (v, w) = (run(a), run(along));
+        for key in ["wavelength_m", "height_m", "activations", "hops"] {
+            assert_eq!(v[key], w[key], "{a} {key}");
+        }
+        assert_eq!(v["x_axis_direction_deg"], x_axis, "{a}");
+        let normal = v["crest_normal_deg"].as_f64().unwrap();
+        let want: f64 = a.parse().unwrap();
+        assert!((normal - want).abs() < 1e-9, "{a}: {normal}");
+        assert_eq!(v["predicted_crest_normal_deg"], want, "{a}");
+    }
+}
+
+/// The recipe for mature current ripples is one resolution: `--bin-size` alone brings its
+/// automata (a tenth of the bin) and its 10 cm of sand along, saying so; a typed
+/// `--layer-thickness` or `--layers` wins; the paper's rules keep their automata; a bin too
+/// fine for 10 cm of sand in at most 4096 layers is refused naming `--bin-size`; and the run
+/// is the one typed in full, byte for byte.
+#[test]
+fn the_recipes_bin_size_brings_its_automata_along() {
+    let scenario = printed_scenario;
+    let (s, e) = scenario(&["--bin-size", "0.005"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.0005\n") && s.contains("\nlayers = 200\n"),
+        "{s}"
+    );
+    assert!(
+        e.contains("--layer-thickness = 0.0005 m and --layers = 200"),
+        "{e}"
+    );
+    let (s, _) = scenario(&["--bin-size", "0.00125", "--layers", "100"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.000125\n") && s.contains("\nlayers = 100\n"),
+        "{s}"
+    );
+    let (s, e) = scenario(&["--bin-size", "0.005", "--layer-thickness", "0.00025"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.00025\n") && s.contains("\nlayers = 400\n"),
+        "{s}"
+    );
+    assert!(!e.contains("tenth of the bin"), "{e}");
+    let (s, e) = scenario(&["--recipe", "paper", "--bin-size", "0.01"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.0005\n") && s.contains("\nlayers = 30\n"),
+        "{s}"
+    );
+    assert!(!e.contains("tenth of the bin"), "{e}");
+    let o = cellsurf(&["ripple", "--bin-size", "0.0000001", "--size", "32x1"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    assert!(
+        e.contains("--bin-size = 1e-7 m is out of range") && e.contains("[1, 4096]"),
+        "{e}"
+    );
+    // the same run as the one typed in full
+    let run = |extra: &[&str]| {
+        let mut a = vec![
+            "ripple",
+            "--size",
+            "64x1",
+            "--duration",
+            "60",
+            "--seed",
+            "3",
+            "--json",
+            "--quiet",
+            "--bin-size",
+            "0.005",
+        ];
+        a.extend_from_slice(extra);
+        let o = cellsurf(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let mut v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for k in ["elapsed_s", "setup_s", "steps_per_s"] {
+            v[k] = serde_json::Value::Null;
+        }
+        v
+    };
+    assert_eq!(
+        run(&[]),
+        run(&["--layer-thickness", "0.0005", "--layers", "200"])
+    );
+}
+
 /// Without `--recipe` or `--scenario`, a current's run starts from the recipe for mature
 /// current ripples and runs until its field is mature (at most 6 h of flow): a section of
 /// 64 cm stops at equilibrium with ripples of a current's shape (Soulsby & Whitehouse predict
@@ -1418,14 +1539,7 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         "{ri} {lee} {si}"
     );
 
-    let scenario = |extra: &[&str]| {
-        let mut a = vec!["ripple"];
-        a.extend_from_slice(extra);
-        a.push("--print-scenario");
-        let o = cellsurf(&a);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stdout).to_string()
-    };
+    let scenario = |extra: &[&str]| printed_scenario(extra).0;
     // waves dominating: the paper's rules, 5 mm bins, the fixed steps, and the JSON says so
     let mut a = vec![
         "ripple", "--size", "24x12", "--layers", "10", "--steps", "20", "--json",
@@ -1477,7 +1591,10 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     for (extra, says) in [
         (&["--abstraction", "shadow"][..], "--recipe paper"),
         (&["--avalanche-angle", "15"][..], "--recipe paper"),
-        (&["--current-angle", "30"][..], "--mode 3d"),
+        (
+            &["--current-angle", "30", "--frame", "grid"][..],
+            "--mode 3d",
+        ),
     ] {
         let mut a = vec!["ripple", "--print-scenario"];
         a.extend_from_slice(extra);
@@ -1537,13 +1654,16 @@ fn help_gives_each_recipes_own_defaults() {
     for said in [
         format!("[default: mature-current {}x{},", m.nx, m.ny),
         format!("paper {}x{}]", p.nx, p.ny),
-        format!("[default: mature-current {}, paper {}]", m.layers, p.layers),
+        format!(
+            "[default: mature-current {}, or 10 cm of sand with --bin-size; paper {}]",
+            m.layers, p.layers
+        ),
         format!(
             "[default: mature-current {}, paper {}]",
             m.bin_size, p.bin_size
         ),
         format!(
-            "[default: mature-current {}, paper {}]",
+            "[default: mature-current {}, or a tenth of --bin-size; paper {}]",
             m.layer_thickness, p.layer_thickness
         ),
         format!("paper {}]", p.steps),

@@ -76,16 +76,17 @@ pub struct Args {
     #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: mature-current
-    /// 400, paper 30].
+    /// 400, or 10 cm of sand with --bin-size; paper 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
     /// Horizontal bin size, m, above 0 and at most 100 [default: mature-current 0.0025, paper
-    /// 0.005].
+    /// 0.005]. With mature-current it sets the automata too (a tenth of the bin, and the
+    /// layers of 10 cm of sand) unless --layer-thickness is given.
     #[arg(long)]
     bin_size: Option<f64>,
     /// Layer thickness gd, m, above 0 and at most --bin-size x tan(--avalanche-angle) (one
     /// automaton over one bin no steeper than the avalanche angle) [default: mature-current
-    /// 0.00025, paper 0.0005].
+    /// 0.00025, or a tenth of --bin-size; paper 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
     /// Steps (`1e4` accepted), 0 to 2^40 [default: mature-current --until equilibrium
@@ -116,8 +117,8 @@ pub struct Args {
     /// Sorting sigma_phi, phi units, 0 to 2 [default: 0.5].
     #[arg(long)]
     sorting: Option<f64>,
-    /// Current direction, degrees counter-clockwise from east, -360 to 360; 0 (+x) or 180 in
-    /// 2d [default: 0].
+    /// Current direction, degrees counter-clockwise from east, -360 to 360 (a 2d section runs
+    /// along it; with --frame grid only 0 or 180) [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
     /// Current speed, m/s, 0 to 10 (sheet flow, above the ripple regime, is refused)
@@ -175,7 +176,8 @@ pub struct Args {
     /// Orientation of the lattice: flow (x along the flow: the current, or the waves without
     /// current; the volume is written in that frame, its x axis at `x_axis_direction_deg` from
     /// east) or grid (x east; an oblique flow crosses the lattice, whose axes and diagonals
-    /// pull the crests towards them); the same in 2d [default: flow].
+    /// pull the crests towards them); in 2d the section runs along the current in the flow
+    /// frame, and only along the x axis (0 or 180 deg) in the grid frame [default: flow].
     #[arg(long)]
     frame: Option<cellsurf::ripple::Frame>,
     /// Avalanche angle alpha, degrees, above 0 and below 90 [default: 32].
@@ -362,7 +364,8 @@ fn waves_dominate_asked(a: &Args) -> bool {
 /// An error of a run that started from `recipe` (not a scenario), with what the recipe has to
 /// do with it: a key of the recipe that the options typed leave no room for (flow separation
 /// with `--abstraction shadow`, or with an avalanche angle or bins that hold no drop of two
-/// automata), or the recipe's 2-D section where the options ask for a direction across it.
+/// automata), or the recipe's 2-D section where the options ask for a direction across it
+/// (an oblique current in the grid frame).
 fn recipe_hint(e: anyhow::Error, a: &Args, recipe: Recipe) -> anyhow::Error {
     let text = e.to_string();
     let given = a.recipe.map_or_else(
@@ -494,6 +497,39 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
     );
     if a.until.is_some() {
         p.until = a.until.clone();
+    }
+    // a recipe that is one resolution: --bin-size alone brings its automata and layers along
+    // (a bin out of its own range is named by its own check; the note once the run is valid)
+    let mut bin_note = None;
+    if let (Some(r), Some(b), None) = (
+        recipe.filter(|r| r.automata_follow_bin()),
+        a.bin_size
+            .filter(|b| b.is_finite() && *b > 0.0 && *b <= 100.0),
+        a.layer_thickness,
+    ) {
+        let (t, layers) = r.automata_for_bin(b);
+        p.layer_thickness = t;
+        if a.layers.is_none() {
+            if !params::LAYERS.contains(layers as u64) {
+                bail!(
+                    "--bin-size = {} m is out of range for the recipe {r}: its 10 cm of sand in automata a tenth of the bin would be {layers} layers of {} m, and layers are expected as {}; give --layers, or --layer-thickness to keep other automata",
+                    cellsurf::ripple::params::shown(b),
+                    cellsurf::ripple::params::shown(t),
+                    params::LAYERS.expected
+                );
+            }
+            p.layers = layers;
+        }
+        bin_note = Some(format!(
+            "note: the recipe {r} is one resolution, automata a tenth of the bin: --bin-size = {} m gives --layer-thickness = {} m{} (give --layer-thickness to keep other automata)",
+            cellsurf::ripple::params::shown(b),
+            cellsurf::ripple::params::shown(t),
+            if a.layers.is_none() {
+                format!(" and --layers = {layers} (its 10 cm of sand)")
+            } else {
+                String::new()
+            }
+        ));
     }
     // the mode from the size where none is named: NXx1 is a section, NXxNY a 3-D field
     if let Some(h) = a
@@ -740,6 +776,9 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         p.ny = 1;
     }
     p.validate()?;
+    if let Some(n) = bin_note {
+        conv::note(n);
+    }
     Ok((p, secs))
 }
 

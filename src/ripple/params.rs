@@ -16,7 +16,9 @@ use crate::engine::count::CountRange;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Mode {
     /// A single row of columns parallel to the current (`ny` is forced to 1; the current runs
-    /// along +x, or -x while a wave reverses it; `current_angle` is ignored).
+    /// along +x or -x, and a wave along the same line). In the flow frame the section runs
+    /// along `current_angle`, whatever it is; in the grid frame only along the x axis (0 or
+    /// 180 deg).
     #[serde(rename = "2d")]
     TwoD,
     /// The full `nx` x `ny` torus with the 8-neighbour rules (Eqs. 6-10).
@@ -184,7 +186,10 @@ pub struct RippleParams {
     /// direction, or the waves' when there is no current: [`RippleParams::frame_angle`]), so
     /// that the lattice does not pull the crests towards its axes and diagonals. The volume is
     /// written in the lattice's frame, its x axis at `frame_angle` degrees from east (recorded
-    /// in every output). In 2-D both are the same: the section runs along the current.
+    /// in every output). In 2-D the section runs along the current: in the flow frame its x
+    /// axis is the current's direction, or the opposite one where that points west of
+    /// north-south (so that 180 deg keeps it east, the flow towards -x); the grid frame takes
+    /// only currents along its x axis (0 or 180 deg).
     /// Default `flow`. (Scenario files written before the flow frame became the default meant
     /// `grid`: add `frame = "grid"` to run them as they were.)
     #[serde(skip_serializing_if = "Frame::is_flow")]
@@ -639,8 +644,16 @@ impl RippleParams {
     /// built one domain-long bedform in three seeds of three, against ripples of 28.6 cm with
     /// the lattice along the current.)
     pub fn frame_angle(&self) -> f64 {
-        if self.frame == Frame::Grid || self.mode == Mode::TwoD {
+        if self.frame == Frame::Grid {
             0.0
+        } else if self.mode == Mode::TwoD {
+            // the section along the current, its x axis within 90 deg of east (so 0 and 180
+            // keep it east, the flow towards +x or -x)
+            if self.current_angle.to_radians().cos() >= 0.0 {
+                self.current_angle
+            } else {
+                self.current_angle - 180.0
+            }
         } else if self.current_speed > 0.0 || self.wave_amplitude == 0.0 {
             self.current_angle
         } else {
@@ -771,13 +784,13 @@ impl RippleParams {
         if !SEED.contains(self.seed) {
             return Err(range("seed", self.seed, SEED.expected));
         }
-        if self.mode == Mode::TwoD {
+        if self.mode == Mode::TwoD && self.frame == Frame::Grid {
             let a = self.current_angle.rem_euclid(360.0);
             if a != 0.0 && a != 180.0 {
                 return Err(range(
                     "current_angle",
                     self.current_angle,
-                    "0 (flow along +x) or 180 (along -x) in 2-D mode, whose section runs along the current",
+                    "0 (flow along +x) or 180 (along -x) in 2-D mode with frame = grid, whose section runs along its x axis, east (frame = flow runs a section along any current)",
                 ));
             }
         }
@@ -1275,7 +1288,7 @@ mod tests {
         assert_eq!(grid.lattice_flow_angle(), 80.0);
         // the default is the flow frame
         assert_eq!(RippleParams::default().frame, Frame::Flow);
-        // 2-D: the section runs along the current in either frame
+        // 2-D: the section runs along the current
         let e = RippleParams {
             mode: Mode::TwoD,
             ny: 1,
@@ -1287,6 +1300,37 @@ mod tests {
         assert_eq!(e.frame_angle(), 0.0);
         assert_eq!(e.lattice_current_angle(), 180.0);
         assert_eq!(e.lattice_flow_angle(), 180.0);
+        // an oblique section in the flow frame: its x axis along the current, or against it
+        // where the current points west of north-south
+        for (a, frame, flow) in [
+            (30.0, 30.0, 0.0),
+            (90.0, 90.0, 0.0),
+            (150.0, 330.0, 180.0),
+            (-120.0, 60.0, 180.0),
+        ] {
+            let o = RippleParams {
+                current_angle: a,
+                ..e.clone()
+            };
+            assert!(o.validate().is_ok(), "{a}");
+            assert_eq!(o.x_axis_direction_deg(), frame, "{a}");
+            assert_eq!(o.lattice_flow_angle(), flow, "{a}");
+            assert!(
+                (o.lattice_current_angle() - flow).rem_euclid(360.0) < 1e-9,
+                "{a}"
+            );
+        }
+        // the grid frame takes only sections along its x axis
+        let g = RippleParams {
+            current_angle: 30.0,
+            frame: Frame::Grid,
+            ..e.clone()
+        };
+        let err = g.validate().unwrap_err().to_string();
+        assert!(
+            err.contains("current_angle = 30") && err.contains("frame = grid"),
+            "{err}"
+        );
     }
 
     /// A scenario's values are read as the command line reads its options: whole numbers

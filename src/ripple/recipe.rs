@@ -68,6 +68,30 @@ impl Recipe {
     pub fn runs_until_mature(self) -> bool {
         self == Recipe::MatureCurrent
     }
+
+    /// Whether its automata follow its bin where only the bin is given (`--bin-size` without
+    /// `--layer-thickness`): the recipe for mature current ripples is one resolution, automata
+    /// a tenth of the bin, so a bin of half its size halves the automata as well (and doubles
+    /// `layers`, keeping its 10 cm of sand). Its ripples depend on the two together: with the
+    /// automata kept at 0.25 mm, bins of 1.25 mm make them 33-41 % shorter and bins of 5 mm
+    /// 33-34 % longer, against 11-17 % shorter and 13-46 % longer with the automata following
+    /// (docs/ripple.md, "The bin"). The paper's rules keep their automata (the paper gives
+    /// the two apart).
+    pub fn automata_follow_bin(self) -> bool {
+        self == Recipe::MatureCurrent
+    }
+
+    /// The layer thickness (m) and layers that go with `bin_size` (m) where the automata
+    /// follow the bin ([`Recipe::automata_follow_bin`]): the recipe's ratio of bin to
+    /// automaton and its depth of sand in metres (layers rounded to a whole number, at least
+    /// 1). The thickness is rounded to 10 significant digits, as if typed.
+    pub fn automata_for_bin(self, bin_size: f64) -> (f64, usize) {
+        let r = self.params();
+        let t = bin_size * r.layer_thickness / r.bin_size;
+        let t: f64 = format!("{t:.9e}").parse().unwrap_or(t);
+        let layers = (r.layers as f64 * r.layer_thickness / t).round().max(1.0) as usize;
+        (t, layers)
+    }
 }
 
 impl FromStr for Recipe {
@@ -127,6 +151,19 @@ mod tests {
         assert_eq!(Recipe::Paper.params(), RippleParams::default());
         assert!(!Recipe::Paper.runs_until_mature());
         assert!(Recipe::MatureCurrent.runs_until_mature());
+    }
+
+    /// The recipe's automata follow its bin (a tenth of it, 10 cm of sand), exactly as if
+    /// typed; the paper's do not.
+    #[test]
+    fn the_recipes_automata_follow_its_bin() {
+        let r = Recipe::MatureCurrent;
+        assert!(r.automata_follow_bin() && !Recipe::Paper.automata_follow_bin());
+        assert_eq!(r.automata_for_bin(0.0025), (0.00025, 400));
+        assert_eq!(r.automata_for_bin(0.00125), (0.000125, 800));
+        assert_eq!(r.automata_for_bin(0.005), (0.0005, 200));
+        assert_eq!(r.automata_for_bin(0.003), (0.0003, 333));
+        assert_eq!(r.automata_for_bin(1.0), (0.1, 1));
     }
 
     #[test]
