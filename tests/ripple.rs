@@ -743,6 +743,28 @@ fn netcdf_round_trip_keeps_every_opt_in_key() {
         let f = cellsurf::ripple::input::read(&path).unwrap();
         assert_eq!(f.params, p, "every opt-in key survives the file");
     }
+    // an oblique 2-D section in the flow frame (its x axis at 330 deg for a current at 150
+    // deg) is read back in the flow frame
+    let section = RippleParams {
+        mode: Mode::TwoD,
+        nx: 32,
+        ny: 1,
+        layers: 6,
+        steps: 4,
+        current_angle: 150.0,
+        ..RippleParams::default()
+    };
+    let mut r = Ripple::new(&section).unwrap();
+    let snaps = run_recording(&mut r, 4, &[4], |_| {});
+    let spec = OutputSpec {
+        fields: vec![Field::Elevation],
+        format: Format::NetCdf,
+    };
+    let path = tmp("roundtrip_oblique_section.nc");
+    write_netcdf(&path, &r, &snaps, &spec).unwrap();
+    let f = cellsurf::ripple::input::read(&path).unwrap();
+    assert_eq!(f.params, section);
+    assert_eq!(f.params.x_axis_direction_deg(), 330.0);
 }
 
 /// Parameters with every key that files leave out at its default set to something else.
@@ -982,6 +1004,22 @@ fn flow_frame_keeps_its_lattice_when_the_current_changes() {
     .unwrap();
     g.set_current(0.3, 40.0).unwrap();
     assert_eq!(g.params().current_angle, 40.0);
+    // a 2-D section in the flow frame runs along its starting current: it may reverse along
+    // it, not turn
+    let mut s = Ripple::new(&RippleParams {
+        mode: Mode::TwoD,
+        nx: 16,
+        ny: 1,
+        layers: 6,
+        current_angle: 30.0,
+        ..RippleParams::default()
+    })
+    .unwrap();
+    s.set_current(0.3, 210.0).unwrap();
+    s.set_current(0.3, -150.0).unwrap();
+    let e = s.set_current(0.3, 40.0).unwrap_err().to_string();
+    assert!(e.starts_with("current_angle = 40 is out of range"), "{e}");
+    assert_eq!(s.params().current_angle, -150.0);
 }
 
 /// A 2-D section run at 180 deg flows towards -x: its lee and stoss faces are measured along

@@ -980,7 +980,7 @@ fn bin_longer_than_half_the_predicted_lee_face_is_warned() {
 /// the same whatever the current's angle (the lattice no longer pulls the crests towards its
 /// axes and diagonals), the crest normal is reported from east (the lattice's normal plus the
 /// angle), and the x axis's direction is recorded; `--frame grid` keeps the lattice east and
-/// is recorded in the parameters; in 2-D both frames run the same section.
+/// is recorded in the parameters; in 2-D both frames run the same section at 0 and 180 deg.
 #[test]
 fn flow_frame_turns_the_lattice_with_the_current() {
     let run = |args: &[&str]| {
@@ -1022,7 +1022,7 @@ fn flow_frame_turns_the_lattice_with_the_current() {
     assert_eq!(g35["x_axis_direction_deg"], 0.0);
     assert_eq!(g35["parameters"]["frame"], "grid");
     assert_ne!(g35["height_m"], a35["height_m"]);
-    // 2-D: the section runs along the current in either frame
+    // 2-D at 180 deg: the same section in either frame, its x axis east
     let two_d = |frame: &str| {
         let mut v = run(&[
             "--mode",
@@ -1430,7 +1430,8 @@ fn an_oblique_current_runs_its_section_along_it() {
 
 /// The recipe for mature current ripples is one resolution: `--bin-size` alone brings its
 /// automata (a tenth of the bin) and its 10 cm of sand along, saying so; a typed
-/// `--layer-thickness` or `--layers` wins; the paper's rules keep their automata; a bin too
+/// `--layer-thickness` or `--layers` wins; the paper's rules and scenario files keep their
+/// automata; a bin too
 /// fine for 10 cm of sand in at most 4096 layers is refused naming `--bin-size`; and the run
 /// is the one typed in full, byte for byte.
 #[test]
@@ -1442,14 +1443,55 @@ fn the_recipes_bin_size_brings_its_automata_along() {
         "{s}"
     );
     assert!(
-        e.contains("--layer-thickness = 0.0005 m and --layers = 200"),
+        e.contains("--layer-thickness = 0.0005 m and --layers = 200 (0.1 m of sand)"),
         "{e}"
     );
-    let (s, _) = scenario(&["--bin-size", "0.00125", "--layers", "100"]);
+    let (s, e) = scenario(&["--bin-size", "0.00125", "--layers", "100"]);
     assert!(
         s.contains("\nlayer_thickness = 0.000125\n") && s.contains("\nlayers = 100\n"),
         "{s}"
     );
+    assert!(
+        e.contains("gives --layer-thickness = 0.000125 m (give --layer-thickness"),
+        "{e}"
+    );
+    // a bin that is not round: the thickness as if typed, the depth said as it is
+    let (s, e) = scenario(&["--bin-size", "0.003"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.0003\n") && s.contains("\nlayers = 333\n"),
+        "{s}"
+    );
+    assert!(e.contains("--layers = 333 (0.1 m of sand)"), "{e}");
+    // a 3-D field and --quiet: the same automata, the note not with --quiet
+    let (s, _) = scenario(&["--bin-size", "0.005", "--mode", "3d", "--quiet"]);
+    assert!(
+        s.contains("\nlayer_thickness = 0.0005\n") && s.contains("\nmode = \"3d\"\n"),
+        "{s}"
+    );
+    let o = cellsurf(&[
+        "ripple",
+        "--bin-size",
+        "0.005",
+        "--quiet",
+        "--print-scenario",
+    ]);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // a scenario file keeps its own automata: --bin-size alone changes the bin only
+    let dir = std::env::temp_dir().join(format!("cellsurf-binfollow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("recipe.toml");
+    std::fs::write(&file, printed_scenario(&[]).0).unwrap();
+    let (s, e) = scenario(&["--scenario", file.to_str().unwrap(), "--bin-size", "0.005"]);
+    assert!(
+        s.contains("\nbin_size = 0.005\n") && s.contains("\nlayer_thickness = 0.00025\n"),
+        "{s}"
+    );
+    assert!(!e.contains("tenth of the bin"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
     let (s, e) = scenario(&["--bin-size", "0.005", "--layer-thickness", "0.00025"]);
     assert!(
         s.contains("\nlayer_thickness = 0.00025\n") && s.contains("\nlayers = 400\n"),
@@ -1467,7 +1509,8 @@ fn the_recipes_bin_size_brings_its_automata_along() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(!e.contains("panicked"), "{e}");
     assert!(
-        e.contains("--bin-size = 1e-7 m is out of range") && e.contains("[1, 4096]"),
+        e.contains("--bin-size = 1e-7 m is out of range")
+            && e.contains("at most 4096 layers: expected --bin-size of at least 0.000245 m"),
         "{e}"
     );
     // the same run as the one typed in full
@@ -1593,7 +1636,7 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         (&["--avalanche-angle", "15"][..], "--recipe paper"),
         (
             &["--current-angle", "30", "--frame", "grid"][..],
-            "--mode 3d",
+            "--mode 3d for a 3-D field, or leave out --frame grid",
         ),
     ] {
         let mut a = vec!["ripple", "--print-scenario"];

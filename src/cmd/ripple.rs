@@ -177,7 +177,8 @@ pub struct Args {
     /// current; the volume is written in that frame, its x axis at `x_axis_direction_deg` from
     /// east) or grid (x east; an oblique flow crosses the lattice, whose axes and diagonals
     /// pull the crests towards them); in 2d the section runs along the current in the flow
-    /// frame, and only along the x axis (0 or 180 deg) in the grid frame [default: flow].
+    /// frame (towards -x, its x axis the opposite way, where the current points west of
+    /// north-south), and only along the x axis (0 or 180 deg) in the grid frame [default: flow].
     #[arg(long)]
     frame: Option<cellsurf::ripple::Frame>,
     /// Avalanche angle alpha, degrees, above 0 and below 90 [default: 32].
@@ -414,11 +415,22 @@ fn recipe_hint(e: anyhow::Error, a: &Args, recipe: Recipe) -> anyhow::Error {
         && !sized
         && range.is_some_and(|(_, expected)| expected.contains("2-D mode"))
     {
+        let frame = if range.is_some_and(|(k, _)| k == "current_angle") {
+            ", or leave out --frame grid (in the flow frame a section runs along any current)"
+        } else {
+            ""
+        };
         return anyhow::anyhow!(
-            "{text}. The run is a 2-D section because {given} is one: give --size NXxNY (NY above 1) or --mode 3d for a 3-D field"
+            "{text}. The run is a 2-D section because {given} is one: give --size NXxNY (NY above 1) or --mode 3d for a 3-D field{frame}"
         );
     }
     e
+}
+
+/// A depth of sand in metres for a message: to the millimetre, without trailing zeros.
+fn depth_m(d: f64) -> String {
+    let s = format!("{d:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 /// A 3-D run of a recipe whose domain is a 2-D section (`--mode 3d` without `--size`): 256 x
@@ -508,16 +520,21 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         a.layer_thickness,
     ) {
         let (t, layers) = r.automata_for_bin(b);
+        if t <= 0.0 || (a.layers.is_none() && !params::LAYERS.contains(layers as u64)) {
+            let rp = r.params();
+            // the finest bin whose sand fits in the most layers (rounded up to 3 digits)
+            let finest = rp.layers as f64 * rp.bin_size / (params::LAYERS.max as f64 + 0.5);
+            let scale = 10f64.powi(2 - finest.log10().floor() as i32);
+            bail!(
+                "--bin-size = {} m is out of range for the recipe {r}, whose automata are a tenth of the bin and whose {} m of sand must fit in at most {} layers: expected --bin-size of at least {} m, or give --layers, or --layer-thickness to keep other automata",
+                cellsurf::ripple::params::shown(b),
+                depth_m(rp.layers as f64 * rp.layer_thickness),
+                params::LAYERS.max,
+                cellsurf::ripple::params::shown((finest * scale).ceil() / scale)
+            );
+        }
         p.layer_thickness = t;
         if a.layers.is_none() {
-            if !params::LAYERS.contains(layers as u64) {
-                bail!(
-                    "--bin-size = {} m is out of range for the recipe {r}: its 10 cm of sand in automata a tenth of the bin would be {layers} layers of {} m, and layers are expected as {}; give --layers, or --layer-thickness to keep other automata",
-                    cellsurf::ripple::params::shown(b),
-                    cellsurf::ripple::params::shown(t),
-                    params::LAYERS.expected
-                );
-            }
             p.layers = layers;
         }
         bin_note = Some(format!(
@@ -525,7 +542,10 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
             cellsurf::ripple::params::shown(b),
             cellsurf::ripple::params::shown(t),
             if a.layers.is_none() {
-                format!(" and --layers = {layers} (its 10 cm of sand)")
+                format!(
+                    " and --layers = {layers} ({} m of sand)",
+                    depth_m(layers as f64 * t)
+                )
             } else {
                 String::new()
             }
@@ -1236,7 +1256,8 @@ pub fn run(a: Args) -> Result<()> {
         (None, None) => 0.0,
     };
     let predicted = Prediction::of(p.d50, p.waves_dominate(), p.wave_amplitude, wave_period_s);
-    // the dominant flow's direction on the lattice (0 in the flow frame)
+    // the dominant flow's direction on the lattice (0 in the flow frame, 180 for a section
+    // running towards -x)
     let along = length_along(
         p.nx as f64 * p.bin_size,
         p.rows() as f64 * p.bin_size,

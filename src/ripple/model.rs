@@ -218,18 +218,18 @@ impl Ripple {
     }
 
     /// Changes the steady current from the next step on (an interactive run): `speed` in m/s,
-    /// 0..=10; `angle` in degrees counter-clockwise from east, finite (a 2-D section uses its
-    /// sign along x only). In a 3-D run in the flow frame the lattice was turned with the
-    /// starting flow, so its direction cannot change (start in the grid frame to turn the
-    /// current during a run). Errors name the parameter and leave the run unchanged.
+    /// 0..=10; `angle` in degrees counter-clockwise from east, finite. In the flow frame the
+    /// lattice (or a 2-D section) was turned with the starting flow, so its direction cannot
+    /// change, except that a section's current may reverse along it (start in the grid frame
+    /// to turn the current during a 3-D run; a section in the grid frame runs along x, 0 or
+    /// 180 deg). Errors name the parameter and leave the run unchanged.
     pub fn set_current(&mut self, speed: f64, angle: f64) -> Result<(), RippleError> {
         let mut p = self.p.clone();
         p.current_speed = speed;
         p.current_angle = angle;
         p.validate()?;
-        if p.mode == Mode::ThreeD
-            && p.frame == Frame::Flow
-            && p.frame_angle() != self.p.frame_angle()
+        if p.frame == Frame::Flow
+            && (p.frame_angle() - self.p.frame_angle()).rem_euclid(360.0) != 0.0
         {
             return Err(RippleError::Range {
                 parameter: "current_angle",

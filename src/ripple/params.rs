@@ -181,7 +181,7 @@ pub struct RippleParams {
     /// `wave_vortex`). Default 0.5.
     #[serde(skip_serializing_if = "is_half")]
     pub vortex_strength: f64,
-    /// Orientation of the lattice (3-D only): `grid`, its x axis east and the flow at
+    /// Orientation of the lattice: `grid`, its x axis east and the flow at
     /// `current_angle` across it, or `flow`, its x axis along the flow (the current's
     /// direction, or the waves' when there is no current: [`RippleParams::frame_angle`]), so
     /// that the lattice does not pull the crests towards its axes and diagonals. The volume is
@@ -638,8 +638,9 @@ impl RippleParams {
     }
 
     /// The direction of the lattice's x axis, degrees counter-clockwise from east: 0 in the
-    /// grid frame (and in 2-D); in the flow frame the current's, or the waves' when there is no
-    /// current. (With both, the lattice follows the current even where the waves dominate:
+    /// grid frame; in the flow frame the current's, or the waves' when there is no current (a
+    /// 2-D section's: the current's, or the opposite one where the section runs towards -x,
+    /// [`RippleParams::section_forward`]). (With both, the lattice follows the current even where the waves dominate:
     /// turned along waves at 60 deg to a current of 0.3 m/s, the 0.4 m/s waves of 0.3 mm sand
     /// built one domain-long bedform in three seeds of three, against ripples of 28.6 cm with
     /// the lattice along the current.)
@@ -649,7 +650,7 @@ impl RippleParams {
         } else if self.mode == Mode::TwoD {
             // the section along the current, its x axis within 90 deg of east (so 0 and 180
             // keep it east, the flow towards +x or -x)
-            if self.current_angle.to_radians().cos() >= 0.0 {
+            if self.section_forward() {
                 self.current_angle
             } else {
                 self.current_angle - 180.0
@@ -661,15 +662,19 @@ impl RippleParams {
         }
     }
 
+    /// Whether a 2-D section's current runs towards +x (its direction within 90 deg of east,
+    /// north included, south not: `current_angle` in (-90, 90] modulo 360), so that one
+    /// direction typed two ways (270 and -90 deg) makes one section.
+    pub fn section_forward(&self) -> bool {
+        let a = self.current_angle.rem_euclid(360.0);
+        a <= 90.0 || a > 270.0
+    }
+
     /// The dominant flow's direction on the lattice, degrees: 0 in the flow frame; in 2-D 0 or
     /// 180 (the section runs towards +x or -x); in the grid frame its angle from east.
     pub fn lattice_flow_angle(&self) -> f64 {
         if self.mode == Mode::TwoD {
-            if self.current_angle.to_radians().cos() >= 0.0 {
-                0.0
-            } else {
-                180.0
-            }
+            if self.section_forward() { 0.0 } else { 180.0 }
         } else {
             self.flow_angle() - self.frame_angle()
         }
@@ -1307,6 +1312,12 @@ mod tests {
             (90.0, 90.0, 0.0),
             (150.0, 330.0, 180.0),
             (-120.0, 60.0, 180.0),
+            // one direction typed two ways makes one section
+            (270.0, 90.0, 180.0),
+            (-90.0, 90.0, 180.0),
+            (-270.0, 90.0, 0.0),
+            (360.0, 0.0, 0.0),
+            (-180.0, 0.0, 180.0),
         ] {
             let o = RippleParams {
                 current_angle: a,

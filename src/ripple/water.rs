@@ -78,11 +78,7 @@ impl Flow {
         let v = p.current_speed + wave;
         // 2-D: the section runs along the current, towards +x (0 deg) or -x (180 deg).
         let base = if two_d {
-            if p.current_angle.to_radians().cos() >= 0.0 {
-                0.0
-            } else {
-                PI
-            }
+            if p.section_forward() { 0.0 } else { PI }
         } else {
             p.lattice_current_angle().to_radians()
         };

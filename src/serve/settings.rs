@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use crate::engine::lattice::{Boundary, Neighbourhood};
 use crate::growth::sampler::SamplerKind;
 use crate::growth::scene::{SceneConfig, SceneKind, Shape, WeightKind};
-use crate::ripple::{Mode, RippleParams};
+use crate::ripple::{Frame, Mode, RippleParams};
 
 use super::ServeError;
 
@@ -277,7 +277,8 @@ pub struct RippleSettings {
 
 impl RippleSettings {
     /// Reads the query: `nx` (bins, 16 to 1024, default 160), `current_speed` (m/s, 0 to
-    /// 10, default 0.5), `current_angle` (degrees, default 0), `seed`, `speed` (steps per
+    /// 10, default 0.5), `current_angle` (degrees, 0 or 180: the
+    /// section runs along x; default 0), `seed`, `speed` (steps per
     /// frame, 1 to 200, default 20). Unknown names are an error.
     pub fn from_query(q: &BTreeMap<String, String>) -> Result<Self, ServeError> {
         const KNOWN: &[&str] = &["nx", "current_speed", "current_angle", "seed", "speed"];
@@ -289,8 +290,10 @@ impl RippleSettings {
                 });
             }
         }
+        // a section along x (the page draws it so): the current towards +x or -x, 0 or 180 deg
         let mut p = RippleParams {
             mode: Mode::TwoD,
+            frame: Frame::Grid,
             nx: 160,
             ny: 1,
             layers: 30,
