@@ -1393,6 +1393,15 @@ fn printed_scenario(extra: &[&str]) -> (String, String) {
     )
 }
 
+/// That a printed ripple scenario `s` has automata of `thickness` (m, as printed) and `layers`.
+fn assert_automata(s: &str, thickness: &str, layers: usize) {
+    assert!(
+        s.contains(&format!("\nlayer_thickness = {thickness}\n"))
+            && s.contains(&format!("\nlayers = {layers}\n")),
+        "{s}"
+    );
+}
+
 /// A 2-D section runs along the current whatever its direction (the flow frame): rotating
 /// the current rotates the section and its crests, not its physics (the same bed, byte for
 /// byte, as along the x axis), and the outputs say where its x axis points.
@@ -1438,29 +1447,20 @@ fn an_oblique_current_runs_its_section_along_it() {
 fn the_recipes_bin_size_brings_its_automata_along() {
     let scenario = printed_scenario;
     let (s, e) = scenario(&["--bin-size", "0.005"]);
-    assert!(
-        s.contains("\nlayer_thickness = 0.0005\n") && s.contains("\nlayers = 200\n"),
-        "{s}"
-    );
+    assert_automata(&s, "0.0005", 200);
     assert!(
         e.contains("--layer-thickness = 0.0005 m and --layers = 200 (0.1 m of sand)"),
         "{e}"
     );
     let (s, e) = scenario(&["--bin-size", "0.00125", "--layers", "100"]);
-    assert!(
-        s.contains("\nlayer_thickness = 0.000125\n") && s.contains("\nlayers = 100\n"),
-        "{s}"
-    );
+    assert_automata(&s, "0.000125", 100);
     assert!(
         e.contains("gives --layer-thickness = 0.000125 m (give --layer-thickness"),
         "{e}"
     );
     // a bin that is not round: the thickness as if typed, the depth said as it is
     let (s, e) = scenario(&["--bin-size", "0.003"]);
-    assert!(
-        s.contains("\nlayer_thickness = 0.0003\n") && s.contains("\nlayers = 333\n"),
-        "{s}"
-    );
+    assert_automata(&s, "0.0003", 333);
     assert!(e.contains("--layers = 333 (0.1 m of sand)"), "{e}");
     // a 3-D field and --quiet: the same automata, the note not with --quiet
     let (s, _) = scenario(&["--bin-size", "0.005", "--mode", "3d", "--quiet"]);
@@ -1493,16 +1493,10 @@ fn the_recipes_bin_size_brings_its_automata_along() {
     assert!(!e.contains("tenth of the bin"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
     let (s, e) = scenario(&["--bin-size", "0.005", "--layer-thickness", "0.00025"]);
-    assert!(
-        s.contains("\nlayer_thickness = 0.00025\n") && s.contains("\nlayers = 400\n"),
-        "{s}"
-    );
+    assert_automata(&s, "0.00025", 400);
     assert!(!e.contains("tenth of the bin"), "{e}");
     let (s, e) = scenario(&["--recipe", "paper", "--bin-size", "0.01"]);
-    assert!(
-        s.contains("\nlayer_thickness = 0.0005\n") && s.contains("\nlayers = 30\n"),
-        "{s}"
-    );
+    assert_automata(&s, "0.0005", 30);
     assert!(!e.contains("tenth of the bin"), "{e}");
     let o = cellsurf(&["ripple", "--bin-size", "0.0000001", "--size", "32x1"]);
     let e = String::from_utf8_lossy(&o.stderr);
