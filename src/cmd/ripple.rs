@@ -1280,7 +1280,7 @@ pub fn run(a: Args) -> Result<()> {
         ));
     }
     // a travel in metres that the bin does not resolve (docs/ripple.md, "A recipe for mature
-    // current ripples": 5 mm bins lengthen the ripples by 27-46 % where they pass twice it)
+    // current ripples": 5 mm bins lengthen the ripples by 20-43 % where they pass twice it)
     let travel = cellsurf::ripple::clock::median_travel(&p, p.current_speed);
     if p.hop_grains > 0.0
         && reg.regime == Regime::Ripples

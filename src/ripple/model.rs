@@ -66,6 +66,9 @@ pub struct Ripple {
     /// Whether the stoss cap acts: the current dominates ([`RippleParams::waves_dominate`],
     /// computed once rather than per roll).
     pub(crate) stoss_capped: bool,
+    /// Whether the face hold acts in place of Eq. (3)'s foot rule: `stoss_face_hold` where
+    /// the stoss cap acts ([`Ripple::held_on_the_face`]).
+    pub(crate) face_hold: bool,
     /// Creep threshold gamma Delta s in automata (tan gamma dx / gd).
     pub(crate) gamma_layers: f64,
     pub(crate) stack: Vec<u32>,
@@ -172,6 +175,7 @@ impl Ripple {
             alpha_layers: [t(p.avalanche_angle), t(p.avalanche_angle) * sq2],
             beta_layers: [t(p.stoss_angle), t(p.stoss_angle) * sq2],
             stoss_capped: !p.waves_dominate(),
+            face_hold: p.stoss_face_hold && !p.waves_dominate(),
             gamma_layers: t(p.creep_angle),
             stack: Vec::new(),
             path: Vec::new(),
@@ -242,6 +246,7 @@ impl Ripple {
             });
         }
         self.stoss_capped = !p.waves_dominate();
+        self.face_hold = p.stoss_face_hold && self.stoss_capped;
         self.p = p;
         Ok(())
     }

@@ -198,6 +198,20 @@ pub struct RippleParams {
     pub avalanche_angle: f64,
     /// Stoss stability angle beta (Eq. 3), degrees, in [0, avalanche_angle]. Default 7.
     pub stoss_angle: f64,
+    /// Hold grains on the whole stoss face (opt-in): where the current dominates, a grain is
+    /// not triggered when the rise ahead of it (to the next column downstream) is steeper
+    /// than beta, wherever it lies on the rise, in place of Eq. (3)'s second case, which holds
+    /// only the grain at the concave foot of such a rise. Rises are whole automata, so a beta
+    /// between two of them is met on average, as the stoss cap's (a rise of
+    /// `ceil(tan(beta) dx / gd)` automata holds the grain with the probability
+    /// `1 - frac(tan(beta) dx / gd)`). Our reading: beta is "the maximum slope of the stoss
+    /// side" (Sect. 2.1 of the paper), and a face steeper than it erodes from its top, where
+    /// the rise ahead flattens, not from within, so that erosion, like deposition under the
+    /// stoss cap, does not steepen the stoss beyond beta. Off (the paper's foot rule) where
+    /// the waves' bed stress exceeds the current's, as the stoss cap is. Left out of files
+    /// when false. Default false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub stoss_face_hold: bool,
     /// Creep angle gamma (Eqs. 9-10), degrees, in [0, 90). Default 5.
     pub creep_angle: f64,
     /// Seed of the random stream, 0..=2^53 (so that every output file records it exactly).
@@ -336,6 +350,7 @@ impl Default for RippleParams {
             frame: Frame::Flow,
             avalanche_angle: 32.0,
             stoss_angle: 7.0,
+            stoss_face_hold: false,
             creep_angle: 5.0,
             seed: 1,
             roughness: 3,
@@ -377,6 +392,7 @@ impl RippleParams {
             frame: Frame::Grid,
             hop_grains: 1.0,
             hop_exponential: true,
+            stoss_face_hold: true,
             crest_suspension: 0.5,
             crest_suspension_grains: 1.0,
             crest_suspension_hops: 1.0,

@@ -6,11 +6,13 @@
 //! `docs/ripple_mature_current.toml` (docs/ripple.md, "A recipe for mature current ripples"):
 //! bins of 2.5 mm, 0.75-1.5 of the grains' flat-bed travel (1.6-3.4 mm at 0.5 m/s), a short
 //! exponential travel in grain diameters, the leading bed stress, flow separation, thicker
-//! water slices and crest suspension at `L` = 4.3 flat-bed travels of the median grain with a
-//! sharp threshold, which give current ripples that stop growing, with slip faces, at 0.1 to
-//! 0.4 mm. Every factor of it was chosen in a screen, not derived; it is for currents (under
-//! waves, 0.3 mm sand and U_w = 0.4 m/s, its ripples are 2.2 and 0.72 times the wave
-//! predictor's 0.62 d0 at d0 = 0.2 and 0.4 m after 8000 s: they do not follow the orbit).
+//! water slices, crest suspension at `L` = 4 flat-bed travels of the median grain with a
+//! sharp threshold, and the face hold (a grain is held wherever the rise ahead of it is
+//! steeper than beta, [`RippleParams::stoss_face_hold`]), which give current ripples that stop
+//! growing, with slip faces and stoss faces at beta + 2 deg or less, at 0.1 to 0.4 mm. Every
+//! factor of it was chosen in a screen, not derived; it is for currents (under waves, 0.3 mm
+//! sand and U_w = 0.4 m/s, its ripples are 2.3 and 0.74 times the wave predictor's 0.62 d0 at
+//! d0 = 0.2 and 0.4 m after 8000 s: they do not follow the orbit).
 
 use std::fmt;
 use std::str::FromStr;
@@ -19,7 +21,7 @@ use super::RippleError;
 use super::params::RippleParams;
 
 /// The longest a run of a recipe that runs until its field is mature lasts by default,
-/// simulated seconds: 6 hours (the recipe's sections stop at 957-10,310 s at 0.1-0.4 mm;
+/// simulated seconds: 6 hours (the recipe's sections stop at 969-5155 s at 0.1-0.4 mm;
 /// docs/ripple.md, "A recipe for mature current ripples").
 pub const DEFAULT_CAP_S: f64 = 21_600.0;
 
@@ -73,10 +75,10 @@ impl Recipe {
     /// `--layer-thickness`): the recipe for mature current ripples is one resolution, automata
     /// a tenth of the bin, so a bin of half its size halves the automata as well (and doubles
     /// `layers`, keeping its 10 cm of sand). Its ripples depend on the two together: with the
-    /// automata kept at 0.25 mm, bins of 1.25 mm make them 33-41 % shorter and bins of 5 mm
-    /// 33-34 % longer, against 11-17 % shorter and 13-46 % longer with the automata following
-    /// (docs/ripple.md, "The bin"). The paper's rules keep their automata (the paper gives
-    /// the two apart).
+    /// automata kept at 0.25 mm, bins of 1.25 mm made them 33-41 % shorter and bins of 5 mm
+    /// 33-34 % longer (before the face hold), against 0-9 % shorter and 13-43 % longer with
+    /// the automata following (docs/ripple.md, "The bin"). The paper's rules keep their
+    /// automata (the paper gives the two apart).
     pub fn automata_follow_bin(self) -> bool {
         self == Recipe::MatureCurrent
     }
@@ -136,8 +138,9 @@ mod tests {
             stress_lead: 4.0,
             separation_angle: 15.0,
             slice_layers: 6,
-            crest_suspension_hops: 4.3,
+            crest_suspension_hops: 4.0,
             suspension_exponent: 8.0,
+            stoss_face_hold: true,
             ..RippleParams::default()
         };
         assert_eq!(p, expected);

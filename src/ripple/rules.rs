@@ -176,11 +176,26 @@ impl Ripple {
     /// concave foot of a rise steeper than beta.
     #[inline]
     pub(crate) fn stoss_stable(&self, c: usize, k: usize) -> bool {
+        if self.face_hold {
+            // the face hold replaces the foot rule ([`Ripple::held_on_the_face`])
+            return false;
+        }
         let h = self.vol.height(c) as f64;
         let up = self.vol.height(self.nb(c, k + 4)) as f64;
         let dn = self.vol.height(self.nb(c, k)) as f64;
         let rise = dn - h;
         (h - up) < rise && rise > self.beta_layers[k % 2]
+    }
+
+    /// The face hold (`stoss_face_hold`, opt-in, where the current dominates): the top grain
+    /// of `c` is held when the rise ahead of it (octant `k`) is steeper than beta, wherever it
+    /// lies on the rise. As in [`Ripple::stoss_too_steep`], a rise of `ceil(B)` automata, `B =
+    /// tan(beta) dx / gd`, holds it with probability `1 - (B - floor(B))`; a steeper one always.
+    #[inline]
+    pub(crate) fn held_on_the_face(&mut self, c: usize, k: usize) -> bool {
+        let rise = self.vol.height(self.nb(c, k)) as f64 - self.vol.height(c) as f64;
+        let b = self.beta_layers[k % 2];
+        rise > b.ceil() || (rise > b.floor() && self.rng.random::<f64>() >= b - b.floor())
     }
 
     /// Whether a grain from `origin` deposited on `c` would make the rise to `c` from the
@@ -265,6 +280,9 @@ impl Ripple {
             let budget = self.p.friction * self.p.hop_metres(d) * stage;
             self.roll_dir(c, k, budget, flow, true);
             return true;
+        }
+        if self.face_hold && s > 0.0 && self.held_on_the_face(c, k) {
+            return false;
         }
         let mut budget = self.budget_at(c, k, flow, self.lead(c, k, s));
         if budget <= 0.0 {
@@ -684,6 +702,52 @@ mod tests {
             p.stoss_angle = 20.0; // tan 20 = 0.36 > 0.3: not held
         });
         assert!(!r0.stoss_stable(4, 0));
+    }
+
+    /// The face hold (`stoss_face_hold`): a grain is held wherever the rise ahead of it is
+    /// steeper than beta, not only at a concave foot, and replaces Eq. (3)'s foot rule. With
+    /// 5 mm bins and automata of 0.5 mm, beta = 7 deg allows `B = 1.228` automata a bin: a rise
+    /// of 3 holds always, of 1 never, of 2 with probability `1 - 0.228`.
+    #[test]
+    fn eq3_face_hold_holds_a_grain_anywhere_on_a_rise_steeper_than_beta() {
+        // a uniform rise of 3 automata a bin from column 3 on: column 3 is no concave foot
+        let face = |step: usize, hold: bool| {
+            let h: Vec<usize> = (0..12)
+                .map(|c| 10 + step * c.clamp(2, 6) - 2 * step)
+                .collect();
+            two_d(&h, |p| {
+                p.abstraction = Abstraction::Shadow;
+                p.stoss_face_hold = hold;
+            })
+        };
+        let foot = face(3, false);
+        assert!(
+            !foot.stoss_stable(3, 0),
+            "the foot rule holds only a concave foot"
+        );
+        let mut r = face(3, true);
+        assert!(r.face_hold && !r.stoss_stable(3, 0));
+        assert!((0..100).all(|_| r.held_on_the_face(3, 0)));
+        let mut gentle = face(1, true);
+        assert!((0..100).all(|_| !gentle.held_on_the_face(3, 0)));
+        let mut two = face(2, true);
+        let b = 7f64.to_radians().tan() * 10.0;
+        let n = 20_000;
+        let held = (0..n).filter(|_| two.held_on_the_face(3, 0)).count() as f64 / n as f64;
+        let p = 1.0 - (b - b.floor());
+        let se = (p * (1.0 - p) / n as f64).sqrt();
+        assert!(
+            (held - p).abs() < 4.0 * se,
+            "held {held}, expected {p} +- {se}"
+        );
+        // off where the waves dominate, as the stoss cap is
+        let waves = two_d(&[10; 12], |p| {
+            p.stoss_face_hold = true;
+            p.current_speed = 0.0;
+            p.wave_amplitude = 0.4;
+            p.wave_period = 64.0;
+        });
+        assert!(!waves.face_hold);
     }
 
     #[test]
