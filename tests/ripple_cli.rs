@@ -1349,6 +1349,25 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
         err.contains("warning: --recipe mature-current is for currents"),
         "{err}"
     );
+    // (one warning: the recipe's own says it; its face hold read from a file is warned of)
+    assert!(!err.contains("stoss_face_hold"), "{err}");
+    let file = tmp("recipe-under-waves.toml");
+    let printed = cellsurf(&[&args[..], &["--print-scenario"]].concat());
+    std::fs::write(&file, printed.stdout).unwrap();
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        file.to_str().unwrap(),
+        "--steps",
+        "40",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success()
+            && err.contains("warning: stoss_face_hold = true has no effect here")
+            && err.contains("the waves dominate"),
+        "{err}"
+    );
     let mut args = recipe_small.to_vec();
     args.extend(["--recipe", "mature-current"]);
     let o = cellsurf(&args);

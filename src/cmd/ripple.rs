@@ -759,7 +759,15 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         .filter(|&r| r == Recipe::MatureCurrent && p.waves_dominate())
     {
         conv::note(format_args!(
-            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and under waves its ripples do not follow the orbit (0.3 mm sand, U_w = 0.4 m/s, 8000 s: 2.2 and 0.72 times the wave predictor's 0.62 d0 at d0 = 0.2 and 0.4 m; docs/ripple.md, \"A recipe for mature current ripples\"); without --recipe such a run starts from the paper's rules with the lee vortex",
+            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and under waves its ripples do not follow the orbit (0.3 mm sand, U_w = 0.4 m/s, 8000 s: 2.3 and 0.74 times the wave predictor's 0.62 d0 at d0 = 0.2 and 0.4 m; docs/ripple.md, \"A recipe for mature current ripples\"); without --recipe such a run starts from the paper's rules with the lee vortex",
+            p.wave_stress_amplitude(),
+            p.current_speed
+        ));
+    }
+    // (the recipe for mature current ripples says so in its own warning)
+    if p.stoss_face_hold && p.waves_dominate() && a.recipe != Some(Recipe::MatureCurrent) {
+        conv::note(format_args!(
+            "warning: stoss_face_hold = true has no effect here: the face hold, like the stoss cap, acts only where the current's bed stress exceeds the waves'; here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s)",
             p.wave_stress_amplitude(),
             p.current_speed
         ));

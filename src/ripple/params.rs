@@ -204,7 +204,8 @@ pub struct RippleParams {
     /// only the grain at the concave foot of such a rise. Rises are whole automata, so a beta
     /// between two of them is met on average, as the stoss cap's (a rise of
     /// `ceil(tan(beta) dx / gd)` automata holds the grain with the probability
-    /// `1 - frac(tan(beta) dx / gd)`). Our reading: beta is "the maximum slope of the stoss
+    /// `1 - frac(tan(beta) dx / gd)`, at a concave foot too, where the foot rule holds it
+    /// always; a steeper rise always). Our reading: beta is "the maximum slope of the stoss
     /// side" (Sect. 2.1 of the paper), and a face steeper than it erodes from its top, where
     /// the rise ahead flattens, not from within, so that erosion, like deposition under the
     /// stoss cap, does not steepen the stoss beyond beta. Off (the paper's foot rule) where

@@ -9,7 +9,8 @@
 //! water slices, crest suspension at `L` = 4 flat-bed travels of the median grain with a
 //! sharp threshold, and the face hold (a grain is held wherever the rise ahead of it is
 //! steeper than beta, [`RippleParams::stoss_face_hold`]), which give current ripples that stop
-//! growing, with slip faces and stoss faces at beta + 2 deg or less, at 0.1 to 0.4 mm. Every
+//! growing, with slip faces and stoss faces at beta + 2 deg or less (on 2-D sections in its
+//! bins), at 0.1 to 0.4 mm. Every
 //! factor of it was chosen in a screen, not derived; it is for currents (under waves, 0.3 mm
 //! sand and U_w = 0.4 m/s, its ripples are 2.3 and 0.74 times the wave predictor's 0.62 d0 at
 //! d0 = 0.2 and 0.4 m after 8000 s: they do not follow the orbit).
@@ -74,11 +75,11 @@ impl Recipe {
     /// Whether its automata follow its bin where only the bin is given (`--bin-size` without
     /// `--layer-thickness`): the recipe for mature current ripples is one resolution, automata
     /// a tenth of the bin, so a bin of half its size halves the automata as well (and doubles
-    /// `layers`, keeping its 10 cm of sand). Its ripples depend on the two together: with the
-    /// automata kept at 0.25 mm, bins of 1.25 mm made them 33-41 % shorter and bins of 5 mm
-    /// 33-34 % longer (before the face hold), against 0-9 % shorter and 13-43 % longer with
-    /// the automata following (docs/ripple.md, "The bin"). The paper's rules keep their
-    /// automata (the paper gives the two apart).
+    /// `layers`, keeping its 10 cm of sand). Its ripples depend on the two together: before
+    /// the face hold, with the automata kept at 0.25 mm, bins of 1.25 mm made them 33-41 %
+    /// shorter and bins of 5 mm 33-34 % longer, against 11-17 % shorter and 13-46 % longer
+    /// with the automata following (now 0-9 % shorter and 13-43 % longer; docs/ripple.md,
+    /// "The bin"). The paper's rules keep their automata (the paper gives the two apart).
     pub fn automata_follow_bin(self) -> bool {
         self == Recipe::MatureCurrent
     }

@@ -38,6 +38,17 @@
 //! half a cycle and the lee for the other half, and the cap is off (our reading; capping both
 //! faces at beta flattens wave ripples).
 //!
+//! **Face hold** (`stoss_face_hold`, opt-in; the recipe for mature current ripples sets it).
+//! The stoss cap bounds where grains come to rest, not where they are lifted from, and erosion
+//! steepened the recipe's stoss faces past beta. With the face hold a grain is not triggered
+//! where the rise ahead of it (to the column downstream) is steeper than beta, wherever it lies
+//! on the rise (`Ripple::held_on_the_face`), with the cap's rounding between whole automata:
+//! a rise of `ceil(B)` automata, `B = tan(beta) dx / gd`, holds it with probability
+//! `1 - frac(B)`, a steeper one always. It replaces Eq. (3)'s foot rule (a grain at a concave
+//! foot of a rise of `ceil(B)` automata is held with that probability too, where the foot rule
+//! holds it always), so a face steeper than beta erodes from its top (our reading of beta as
+//! "the maximum slope of the stoss side"). Off where the waves dominate, as the cap is.
+//!
 //! **Roll/saltation.** The grain leaves its column and, bin by bin, moves to the cheapest of
 //! the forward cells, spending Delta e = E_friction + E_gravity = m g' (mu Delta s + Delta h)
 //! (Eq. 4), with Delta s = sqrt(Delta x^2 + Delta y^2 + (Delta h + gd)^2) (Eqs. 1 and 7; the
@@ -221,7 +232,9 @@ impl Ripple {
         }
     }
 
-    /// E_x of the top grain of `c` in units of m g' (m): 0 when it is not exposed.
+    /// E_x of the top grain of `c` in units of m g' (m): 0 when it is not exposed (without the
+    /// face hold, which [`Ripple::trigger`] applies before the budget; its callers run with the
+    /// hold off).
     #[cfg(test)]
     pub(crate) fn budget(&self, c: usize, k: usize, flow: &Flow) -> f64 {
         if self.vol.height(c) == 0 {
@@ -740,13 +753,18 @@ mod tests {
             (held - p).abs() < 4.0 * se,
             "held {held}, expected {p} +- {se}"
         );
-        // off where the waves dominate, as the stoss cap is
-        let waves = two_d(&[10; 12], |p| {
+        // off where the waves dominate, as the stoss cap is, and on again once a current
+        // dominates (`set_current`)
+        let mut waves = two_d(&[10; 12], |p| {
             p.stoss_face_hold = true;
             p.current_speed = 0.0;
             p.wave_amplitude = 0.4;
             p.wave_period = 64.0;
         });
+        assert!(!waves.face_hold);
+        waves.set_current(1.5, 0.0).unwrap();
+        assert!(waves.face_hold && waves.stoss_capped);
+        waves.set_current(0.0, 0.0).unwrap();
         assert!(!waves.face_hold);
     }
 
