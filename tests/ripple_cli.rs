@@ -431,6 +431,8 @@ fn a_bed_down_to_the_substrate_is_warned_and_never_at_equilibrium() {
         "24x12",
         "--layers",
         "6",
+        "--bin-size",
+        "0.0025",
     ]);
     assert!(o.status.success());
     let text = String::from_utf8_lossy(&o.stdout).replace("roughness = 3", "roughness = 1");
@@ -1302,11 +1304,14 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
         .map(|l| format!("{l}\n"))
         .collect();
     let printed = RippleParams::from_toml(&keys).unwrap();
+    // on its bin of 0.75 flat-bed travels of the 0.3 mm grain, the automata following
     let expected = RippleParams {
         d50: 0.3,
         until: Some("equilibrium".into()),
         ..Recipe::MatureCurrent.params()
-    };
+    }
+    .with_travel_bin();
+    assert!(expected.bin_size != Recipe::MatureCurrent.params().bin_size);
     assert_eq!(printed, expected, "{text}");
     let file = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -1505,8 +1510,9 @@ fn the_recipes_bin_size_brings_its_automata_along() {
     let file = dir.join("recipe.toml");
     std::fs::write(&file, printed_scenario(&[]).0).unwrap();
     let (s, e) = scenario(&["--scenario", file.to_str().unwrap(), "--bin-size", "0.005"]);
+    // (the printed recipe's automata: a tenth of its bin of 0.75 travels, 1.86 mm at 0.2 mm)
     assert!(
-        s.contains("\nbin_size = 0.005\n") && s.contains("\nlayer_thickness = 0.00025\n"),
+        s.contains("\nbin_size = 0.005\n") && s.contains("\nlayer_thickness = 0.000186\n"),
         "{s}"
     );
     assert!(!e.contains("tenth of the bin"), "{e}");
@@ -1558,10 +1564,11 @@ fn the_recipes_bin_size_brings_its_automata_along() {
 
 /// Without `--recipe` or `--scenario`, a current's run starts from the recipe for mature
 /// current ripples and runs until its field is mature (at most 6 h of flow): a section of
-/// 64 cm stops at equilibrium with ripples of a current's shape (Soulsby & Whitehouse predict
-/// 14.6 cm at 0.2 mm; the recipe's full 2.56 m default stops at 1605-1642 s, docs/ripple.md).
+/// 256 of its bins (0.48 m in bins of 1.86 mm) stops at equilibrium with ripples of a
+/// current's shape (measured: 1674 s, 15.9 cm, 1.54 cm, ripple index 10.3, lee 30.4 deg,
+/// symmetry index 3.0; Soulsby & Whitehouse predict 14.6 cm and 1.86 cm at 0.2 mm).
 /// Where the waves dominate it starts from the paper's rules; a size sets the mode, `--mode
-/// 3d` alone a 3-D field of 256 x 64 bins, and a typed length runs without the stop.
+/// 3d` alone a 3-D field of 384 x 64 bins, and a typed length runs without the stop.
 #[test]
 fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     let o = cellsurf(&[
@@ -1572,7 +1579,9 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
     assert_eq!(v["recipe"], "mature-current");
     assert_eq!(v["until"], "equilibrium");
     assert_eq!(v["duration_s"], 21600.0);
-    assert_eq!(v["parameters"]["bin_size"], 0.0025);
+    // bins of 0.75 flat-bed travels of the 0.2 mm grain (2.48 mm at 0.5 m/s)
+    assert_eq!(v["parameters"]["bin_size"], 0.00186);
+    assert_eq!(v["parameters"]["bin_travels"], 0.75);
     assert_eq!(v["parameters"]["mode"], "2d");
     assert_eq!(v["equilibrium"], true, "{v}");
     let t = v["simulated_time_s"].as_f64().unwrap();
@@ -1610,10 +1619,10 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         s.contains("\nbin_size = 0.005\n") && !s.contains("until") && !s.contains("hop_grains"),
         "{s}"
     );
-    // a size NXxNY makes it 3-D, NXx1 a section; --mode 3d alone 256 x 64 bins
+    // a size NXxNY makes it 3-D, NXx1 a section; --mode 3d alone 384 x 64 bins
     let s = scenario(&["--size", "24x12"]);
     assert!(
-        s.contains("\nmode = \"3d\"\n") && s.contains("\nbin_size = 0.0025\n"),
+        s.contains("\nmode = \"3d\"\n") && s.contains("\nbin_size = 0.00186\n"),
         "{s}"
     );
     let s = scenario(&["--recipe", "paper", "--size", "64x1"]);
@@ -1622,9 +1631,9 @@ fn the_default_run_is_the_mature_current_recipe_until_equilibrium() {
         "{s}"
     );
     let s = scenario(&["--mode", "3d"]);
-    assert!(s.contains("\nnx = 256\nny = 64\n"), "{s}");
+    assert!(s.contains("\nnx = 384\nny = 64\n"), "{s}");
     let s = scenario(&["--mode", "3d", "--ny", "32"]);
-    assert!(s.contains("\nnx = 256\nny = 32\n"), "{s}");
+    assert!(s.contains("\nnx = 384\nny = 32\n"), "{s}");
     // the old spelling of the x side keeps it, the y side from the 3-D default
     let s = scenario(&["--nx", "512", "--mode", "3d"]);
     assert!(s.contains("\nnx = 512\nny = 64\n"), "{s}");
@@ -1711,16 +1720,20 @@ fn help_gives_each_recipes_own_defaults() {
         format!("[default: mature-current {}x{},", m.nx, m.ny),
         format!("paper {}x{}]", p.nx, p.ny),
         format!(
-            "[default: mature-current {}, or 10 cm of sand with --bin-size; paper {}]",
-            m.layers, p.layers
+            "[default: mature-current 10 cm of sand, {} with bins of {} mm; paper {}]",
+            m.layers,
+            m.bin_size * 1e3,
+            p.layers
         ),
         format!(
-            "[default: mature-current {}, paper {}]",
-            m.bin_size, p.bin_size
+            "[default: mature-current {} flat-bed travels of the median grain in the current (bin_travels), {} for 0.2 mm sand at 0.5 m/s; paper {}]",
+            m.bin_travels,
+            m.with_travel_bin().bin_size,
+            p.bin_size
         ),
         format!(
-            "[default: mature-current {}, or a tenth of --bin-size; paper {}]",
-            m.layer_thickness, p.layer_thickness
+            "[default: mature-current a tenth of the bin; paper {}]",
+            p.layer_thickness
         ),
         format!("paper {}]", p.steps),
         format!(
@@ -1729,5 +1742,45 @@ fn help_gives_each_recipes_own_defaults() {
         ),
     ] {
         assert!(help.contains(&said), "{said}: {help}");
+    }
+}
+
+/// The recipe for mature current ripples warns where the current changes the grains'
+/// flat-bed travel by more than a quarter from that at the speed it was measured at (its
+/// ripples follow the travel, nature's current ripples keep their size), naming the speed and
+/// the ratio; not near that speed, not with the paper's rules, not where the waves dominate.
+/// Its bin follows the travel (the printed scenarios' `bin_size`).
+#[test]
+fn the_recipe_warns_where_the_current_changes_its_travel() {
+    let warned = "warning: the recipe mature-current was measured against Soulsby & Whitehouse";
+    let (slow, e) = printed_scenario(&["--current-speed", "0.35"]);
+    assert!(
+        e.contains(warned) && e.contains("--current-speed = 0.35 m/s is 0.30 times"),
+        "{e}"
+    );
+    let (fast, e) = printed_scenario(&["--current-speed", "0.65"]);
+    assert!(e.contains(warned) && e.contains("is 1.95 times"), "{e}");
+    let bin = |s: &str| -> f64 {
+        let line = s.lines().find(|l| l.starts_with("bin_size = ")).unwrap();
+        line["bin_size = ".len()..].parse().unwrap()
+    };
+    assert!(
+        bin(&slow) < 0.00186 && bin(&fast) > 0.00186,
+        "{slow}\n{fast}"
+    );
+    for quiet in [
+        vec!["--current-speed", "0.52"],
+        vec!["--current-speed", "0.35", "--recipe", "paper"],
+        vec![
+            "--current-speed",
+            "0.35",
+            "--wave-velocity",
+            "0.6",
+            "--wave-period",
+            "4s",
+        ],
+    ] {
+        let (_, e) = printed_scenario(&quiet);
+        assert!(!e.contains(warned), "{quiet:?}: {e}");
     }
 }

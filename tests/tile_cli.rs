@@ -630,6 +630,23 @@ fn a_scenarios_generating_keys_without_generate_are_warned_of() {
     assert!(o.status.success() && !err.contains("warning"), "{err}");
 }
 
+/// The JSON of a `--dry-run` of one tile generated from the ripple scenario `scenario`, with
+/// `extra` options.
+fn dry_run(scenario: &str, extra: &[&str]) -> serde_json::Value {
+    let a = [
+        "tile",
+        "--generate",
+        "--ripple-scenario",
+        scenario,
+        "--mosaic",
+        "1x1",
+        "--dry-run",
+        "--json",
+        "--quiet",
+    ];
+    json(&cellsurf(&[&a[..], extra].concat()))
+}
+
 /// A ripple scenario that `cellsurf ripple --print-scenario` wrote after `--duration` and
 /// `--wave-period` (`duration_s` and `wave_period_s` in place of `steps` and `wave_period`)
 /// generates the runs that `cellsurf ripple --scenario` makes of it, with the same steps and
@@ -645,20 +662,7 @@ fn a_ripple_scenario_in_seconds_generates_the_ripple_runs_of_it() {
     std::fs::write(&scenario, &o.stdout).unwrap();
     let s = scenario.to_str().unwrap();
     let run = json(&cellsurf(&["ripple", "--scenario", s, "--json", "--quiet"]));
-    let tile = |extra: &[&str]| {
-        let a = [
-            "tile",
-            "--generate",
-            "--ripple-scenario",
-            s,
-            "--mosaic",
-            "1x1",
-            "--dry-run",
-            "--json",
-            "--quiet",
-        ];
-        json(&cellsurf(&[&a[..], extra].concat()))["recorded"].clone()
-    };
+    let tile = |extra: &[&str]| dry_run(s, extra)["recorded"].clone();
     let r = tile(&[]);
     assert_eq!(r["ripple_steps"], run["steps"], "{r}");
     assert_eq!(
@@ -712,4 +716,27 @@ fn generated_tiles_warn_that_until_is_not_applied_and_refuse_sections() {
         code == Some(1) && err.contains("mode = \"2d\" is out of range for --generate"),
         "{err}"
     );
+}
+
+/// A ripple scenario with its bin in flat-bed travels (`bin_travels`, as the recipe for mature
+/// current ripples has it) generates tiles on the bin of the travel, as `cellsurf ripple` runs
+/// it (0.75 travels of 0.2 mm sand at 0.5 m/s: 1.86 mm, the automata a tenth of it); a typed
+/// `--bin-size` wins.
+#[test]
+fn a_ripple_scenario_in_travels_generates_tiles_on_the_bin_of_the_travel() {
+    let scenario = tmp("travels.toml");
+    std::fs::write(
+        &scenario,
+        "model = \"ripple\"\nnx = 24\nny = 12\nlayers = 40\nbin_size = 0.0025\n\
+         layer_thickness = 0.00025\nhop_grains = 4.6875\nbin_travels = 0.75\nsteps = 10\n",
+    )
+    .unwrap();
+    let s = scenario.to_str().unwrap();
+    let tile = |extra: &[&str]| dry_run(s, extra);
+    let t = tile(&[]);
+    assert_eq!(t["bin_size_m"], 0.00186, "{t}");
+    let run = json(&cellsurf(&["ripple", "--scenario", s, "--json", "--quiet"]));
+    assert_eq!(run["parameters"]["bin_size"], 0.00186, "{run}");
+    assert_eq!(run["parameters"]["layer_thickness"], 0.000186, "{run}");
+    assert_eq!(tile(&["--bin-size", "0.005"])["bin_size_m"], 0.005);
 }

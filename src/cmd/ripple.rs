@@ -20,7 +20,7 @@ use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
-use cellsurf::ripple::recipe::{DEFAULT_CAP_S, Recipe};
+use cellsurf::ripple::recipe::{DEFAULT_CAP_S, MEASURED_SPEED, Recipe};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -33,8 +33,8 @@ use cellsurf::ripple::{
 #[command(
     allow_negative_numbers = true,
     after_help = "Examples:\n  \
-        cellsurf ripple --out bed.nc          # mature current ripples: a 2.56 m section\n  \
-        cellsurf ripple --size 256x64 --out bed.nc   # a 3-D field, 64 x 16 cm: minutes\n  \
+        cellsurf ripple --out bed.nc          # mature current ripples: a 1.9 m section\n  \
+        cellsurf ripple --size 384x64 --out bed.nc   # a 3-D field, 71 x 12 cm: minutes\n  \
         cellsurf ripple --recipe paper --out bed.nc            # the paper's Fig. 3 situation\n  \
         cellsurf ripple --recipe paper --size 64x32 --steps 2000 --out bed.npy --json\n  \
         cellsurf ripple --current-speed 0 --wave-velocity 0.4 --wave-period 8s --duration 1h\n  \
@@ -49,8 +49,9 @@ pub struct Args {
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
     /// Start from a built-in recipe: mature-current (current ripples of nature's size that stop
-    /// growing, with slip faces: a 2-D section of 1024 bins of 2.5 mm, 400 automata of 0.25
-    /// mm, run until equilibrium, at most 6 h; docs/ripple.md, "A recipe for mature current
+    /// growing, with slip faces: a 2-D section of 1024 bins of 0.75 flat-bed travels of the
+    /// median grain, 1.86 mm for 0.2 mm sand at 0.5 m/s, automata a tenth of the bin, 10 cm of
+    /// sand, run until equilibrium, at most 6 h; docs/ripple.md, "A recipe for mature current
     /// ripples") or paper (the paper's rules in its Fig. 3 situation: 3-D, 128x64 bins of 5
     /// mm, 30 automata of 0.5 mm, 10000 steps; its current ripples coarsen without end);
     /// options typed here override it. `--print-scenario` shows its keys [default:
@@ -66,7 +67,7 @@ pub struct Args {
     #[arg(long)]
     abstraction: Option<Abstraction>,
     /// Columns along x and y, NXxNY, each 3 to 65536 (NXx1 in 2d) [default: mature-current
-    /// 1024x1, 256x64 with --mode 3d; paper 128x64].
+    /// 1024x1, 384x64 with --mode 3d; paper 128x64].
     #[arg(long, value_name = "NXxNY", value_parser = conv::size_in(params::SIZE_SIDES))]
     size: Option<Size>,
     /// Old spelling of the x part of --size (kept for one release).
@@ -76,17 +77,18 @@ pub struct Args {
     #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: mature-current
-    /// 400, or 10 cm of sand with --bin-size; paper 30].
+    /// 10 cm of sand, 400 with bins of 2.5 mm; paper 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
-    /// Horizontal bin size, m, above 0 and at most 100 [default: mature-current 0.0025, paper
-    /// 0.005]. With mature-current it sets the automata too (a tenth of the bin, and the
-    /// layers of 10 cm of sand) unless --layer-thickness is given.
+    /// Horizontal bin size, m, above 0 and at most 100 [default: mature-current 0.75 flat-bed
+    /// travels of the median grain in the current (bin_travels), 0.00186 for 0.2 mm sand at
+    /// 0.5 m/s; paper 0.005]. With mature-current it sets the automata too (a tenth of the
+    /// bin, and the layers of 10 cm of sand) unless --layer-thickness is given.
     #[arg(long)]
     bin_size: Option<f64>,
     /// Layer thickness gd, m, above 0 and at most --bin-size x tan(--avalanche-angle) (one
-    /// automaton over one bin no steeper than the avalanche angle) [default: mature-current
-    /// 0.00025, or a tenth of --bin-size; paper 0.0005].
+    /// automaton over one bin no steeper than the avalanche angle) [default: mature-current a
+    /// tenth of the bin; paper 0.0005].
     #[arg(long)]
     layer_thickness: Option<f64>,
     /// Steps (`1e4` accepted), 0 to 2^40 [default: mature-current --until equilibrium
@@ -312,19 +314,20 @@ pub fn scenario_seconds(
 /// (none: a scenario file). Without `--recipe` or `--scenario` the run starts from the recipe
 /// for mature current ripples where the current dominates the bed stress (or nothing moves),
 /// and from the paper's rules where the waves dominate (under waves the recipe's ripples do
-/// not follow the orbit; the lee vortex gives wave ripples their shape there).
-fn params(a: &Args) -> Result<(RippleParams, Seconds, Option<Recipe>)> {
+/// not follow the orbit; the lee vortex gives wave ripples their shape there). The last is
+/// a note on the bin, for once the run is known to be valid.
+fn params(a: &Args) -> Result<(RippleParams, Seconds, Option<Recipe>, Option<String>)> {
     if a.scenario.is_some() {
-        let (p, secs) = params_from(a, None)?;
-        return Ok((p, secs, None));
+        let (p, secs, note) = params_from(a, None)?;
+        return Ok((p, secs, None, note));
     }
     let recipe = a.recipe.unwrap_or(if waves_dominate_asked(a) {
         Recipe::Paper
     } else {
         Recipe::MatureCurrent
     });
-    let (p, secs) = params_from(a, Some(recipe)).map_err(|e| recipe_hint(e, a, recipe))?;
-    Ok((p, secs, Some(recipe)))
+    let (p, secs, note) = params_from(a, Some(recipe)).map_err(|e| recipe_hint(e, a, recipe))?;
+    Ok((p, secs, Some(recipe), note))
 }
 
 /// Whether the waves typed on the command line rub the bed harder than the current
@@ -433,13 +436,17 @@ fn depth_m(d: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-/// A 3-D run of a recipe whose domain is a 2-D section (`--mode 3d` without `--size`): 256 x
-/// 64 bins (64 x 16 cm in the recipe's bins of 2.5 mm).
-pub const RECIPE_3D_SIZE: (usize, usize) = (256, 64);
+/// A 3-D run of a recipe whose domain is a 2-D section (`--mode 3d` without `--size`): 384 x
+/// 64 bins (71 x 12 cm in the recipe's bins for 0.2 mm sand at 0.5 m/s, 1.86 mm: four of the
+/// predicted wavelengths along the flow at 0.1-0.4 mm).
+pub const RECIPE_3D_SIZE: (usize, usize) = (384, 64);
 
-/// The run's parameters from `recipe` (none: `--scenario`) and the options, and what it was
-/// asked for in seconds.
-fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Seconds)> {
+/// The run's parameters from `recipe` (none: `--scenario`) and the options, what it was
+/// asked for in seconds, and a note on the bin where the options or `bin_travels` set it.
+fn params_from(
+    a: &Args,
+    recipe: Option<Recipe>,
+) -> Result<(RippleParams, Seconds, Option<String>)> {
     let mut secs = Seconds::default();
     let mut p = match &a.scenario {
         Some(path) => {
@@ -778,6 +785,56 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
             p.suspension_exponent
         ));
     }
+    // the bin in flat-bed travels (`bin_travels`, the recipe's): a typed --bin-size wins; the
+    // automata and layers follow unless typed (the note once the run is valid)
+    if a.bin_size.is_some() {
+        p.bin_travels = 0.0;
+    }
+    if let Some(b) = p
+        .travel_bin()
+        .filter(|&b| b != p.bin_size && p.validate().is_ok())
+    {
+        let (t, layers) = p.automata_for_bin(b);
+        let t = a.layer_thickness.unwrap_or(t);
+        let layers = a.layers.unwrap_or(layers);
+        if !params::LAYERS.contains(layers as u64) {
+            bail!(
+                "bin_travels = {} gives a bin of {} m here ({} flat-bed travels of {} m, the median grain's in --current-speed = {} m/s), on which {} m of sand takes {layers} layers: expected at most {}; give --bin-size, --layers or --layer-thickness",
+                cellsurf::ripple::params::shown(p.bin_travels),
+                cellsurf::ripple::params::shown(b),
+                cellsurf::ripple::params::shown(p.bin_travels),
+                cellsurf::ripple::params::rounded(b / p.bin_travels),
+                cellsurf::ripple::params::shown(p.current_speed),
+                depth_m(p.layers as f64 * p.layer_thickness),
+                params::LAYERS.max
+            );
+        }
+        // (a printed scenario shows the bin itself)
+        bin_note = (!a.print_scenario).then(|| format!(
+            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s): --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {} m along the flow; --bin-size gives another bin",
+            cellsurf::ripple::params::shown(p.bin_travels),
+            cellsurf::ripple::params::rounded(b / p.bin_travels),
+            cellsurf::ripple::params::shown(p.current_speed),
+            cellsurf::ripple::params::shown(b),
+            cellsurf::ripple::params::shown(t),
+            depth_m(layers as f64 * t),
+            cellsurf::ripple::params::rounded(b * p.nx as f64),
+        ));
+        (p.bin_size, p.layer_thickness, p.layers) = (b, t, layers);
+    }
+    // the recipe's ripples follow the travel, nature's current ripples keep their size
+    if recipe == Some(Recipe::MatureCurrent) && !p.waves_dominate() && p.validate().is_ok() {
+        let travel = |u: f64| cellsurf::ripple::clock::median_travel(&p, u);
+        let ratio = travel(p.current_speed) / travel(MEASURED_SPEED);
+        if ratio.is_finite() && ratio > 0.0 && !(0.8..=1.25).contains(&ratio) {
+            conv::note(format_args!(
+                "warning: the recipe {} was measured against Soulsby & Whitehouse (2005) at {MEASURED_SPEED} m/s; its ripples grow with the grains' flat-bed travel (about 70 travels long), which at --current-speed = {} m/s is {:.2} times that at {MEASURED_SPEED} m/s, where nature's equilibrium current ripples keep their size as the current changes (0.2 mm sand: 4.7 / 17.3 / 33.6 cm at 0.35 / 0.5 / 0.65 m/s against their 14.6 cm; docs/ripple.md, \"The current's speed\")",
+                Recipe::MatureCurrent,
+                p.current_speed,
+                ratio
+            ));
+        }
+    }
     // (a bin or an avalanche angle out of its own range is named by its own check)
     if p.bin_size > 0.0
         && p.avalanche_angle > 0.0
@@ -804,10 +861,7 @@ fn params_from(a: &Args, recipe: Option<Recipe>) -> Result<(RippleParams, Second
         p.ny = 1;
     }
     p.validate()?;
-    if let Some(n) = bin_note {
-        conv::note(n);
-    }
-    Ok((p, secs))
+    Ok((p, secs, bin_note))
 }
 
 /// Converts what was asked in seconds (`--duration`, `--wave-period`, or a scenario's
@@ -1016,8 +1070,12 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
-    let (p, secs, recipe) = params(&a)?;
+    // (the note on the bin once the whole run is valid: an error is a run's first line)
+    let (p, secs, recipe, bin_note) = params(&a)?;
     if a.print_scenario {
+        if let Some(n) = &bin_note {
+            conv::note(n);
+        }
         // (the scenario holds the model; these choose what a run writes)
         let run_only = conv::given_flags(&[
             ("out", "--out", !a.out.is_empty()),
@@ -1343,6 +1401,9 @@ pub fn run(a: Args) -> Result<()> {
 
     let volume_out = out.is_some() && spec.fields.iter().any(|f| *f != Field::Elevation);
     check_run_memory(&p, times.len(), volume_out)?;
+    if let Some(n) = &bin_note {
+        conv::note(n);
+    }
 
     let start = Instant::now();
     let mut r = Ripple::new(&p)?;

@@ -247,6 +247,16 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         .try_into()
         .context("the --generate options")?;
     o.apply(&mut p);
+    // a scenario's bin in flat-bed travels (`bin_travels`): a typed --bin-size wins, as in
+    // `cellsurf ripple`; otherwise the tiles run on the bin of the travel, automata following
+    p = if a.bin_size.is_some() {
+        RippleParams {
+            bin_travels: 0.0,
+            ..p
+        }
+    } else {
+        p.with_travel_bin()
+    };
     // tiles are 3-D fields: a scenario of a 2-D section (as `cellsurf ripple --print-scenario`
     // writes for its default) would make tiles of one row
     if let (Some(path), cellsurf::ripple::Mode::TwoD) = (&a.ripple_scenario, p.mode) {

@@ -112,17 +112,7 @@ pub fn mean_bedload(p: &RippleParams) -> f64 {
         / v.len() as f64
 }
 
-/// The median grain's mean travel on a flat bed of the run `p` in a free-stream flow of
-/// `speed` m/s, metres: `hop x (theta / theta_cr - 1)` for `d50`
-/// ([`RippleParams::hop_metres`]; `theta` from the quadratic friction law at `speed`, Soulsby
-/// 1997, Eqs. 30 and 74; `theta_cr` of Eq. 77), 0 in a flow that does not move it. Crest
-/// suspension's length in travels (`crest_suspension_hops`) is a multiple of it. (The
-/// calibration, [`flat_bed_travel`], measures the travel of every class on the lattice.)
-pub fn median_travel(p: &RippleParams, speed: f64) -> f64 {
-    let d = p.d50 * 1e-3;
-    let theta = shields(bed_shear_stress(speed, p.drag_coefficient), d);
-    (p.hop_metres(d) * (theta / theta_cr(d) - 1.0)).max(0.0)
-}
+pub use super::travel::median_travel;
 
 /// The duration of a step and what it was computed from (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -141,6 +131,8 @@ pub struct StepClock {
 impl StepClock {
     /// The clock of the run `p` (module docs).
     pub fn of(p: &RippleParams) -> Result<StepClock, RippleError> {
+        // the run's own bin ([`RippleParams::with_travel_bin`])
+        let p = &p.with_travel_bin();
         let (travel, eps) = flat_bed_travel(p)?;
         let bedload = mean_bedload(p);
         let per_step = p.activity * p.layers as f64 * p.layer_thickness * (1.0 - eps) * travel;

@@ -683,8 +683,9 @@ const VALIDATION_WAVE_LAYERS: usize = 200;
 /// ripples": the lengths they keep until 24,000 s).
 const RECIPE_SECONDS: f64 = 6000.0;
 
-/// Columns of the recipe's 2-D sections: 1024 of its bins of 2.5 mm, 2.56 m (ripples of
-/// 11-22 cm come in steps of 256 / k cm, 4-9 % apart).
+/// Columns of the recipe's 2-D sections: 1024 of its bins of 0.75 flat-bed travels, 1.26 /
+/// 1.90 / 2.57 m at 0.1 / 0.2 / 0.4 mm (ten or more of its ripples, whose lengths come in
+/// steps of the section over k, 6-10 % apart).
 const RECIPE_NX: usize = 1024;
 
 /// One case of the validation study: current ripples of a grain size (with the paper's rules,
@@ -746,7 +747,7 @@ impl ValidationCase {
     /// (64 x 64 cm) in the grid frame for the angles, 20 automata per column; the waves on a
     /// narrow strip along them, 512 x 8 bins (256 x 4 cm: wave ripples under regular waves are
     /// long-crested), with 200 automata per column, the lee vortex and the command line's
-    /// sorting; the recipe on a 2-D section of [`RECIPE_NX`] bins (2.56 m) with its own bins,
+    /// sorting; the recipe on a 2-D section of [`RECIPE_NX`] bins with its own bins,
     /// automata and sand (10 cm), at the command line's 0.5 m/s.
     fn params(self, seed: u64) -> Result<RippleParams, String> {
         let base = RippleParams {
@@ -835,7 +836,7 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
 
 /// The study behind `ripple_validation.png` as independent runs: current ripples for three
 /// grain sizes after 300 s and 1800 s of flow with the paper's rules, and under the recipe for
-/// mature current ripples after 6000 s on 2-D sections of 2.56 m, wave ripples (with the lee vortex, on narrow strips with 10 cm of sand)
+/// mature current ripples after 6000 s on 2-D sections of 1024 of its bins, wave ripples (with the lee vortex, on narrow strips with 10 cm of sand)
 /// for three orbital diameters after 16,000 s and 32,000 s, and the crest normal for current
 /// angles 0-180 deg after 300 s, 3 seeds each
 /// (`cellsurf converge ripple_validation`, in parts with `--part i/N`).
@@ -965,7 +966,7 @@ fn draw_validation(records: &[toml::Value], dir: &Path) -> Result<Vec<PathBuf>, 
         se.label.clear();
         [mean, se]
     };
-    let recipe_label = format!("recipe (the default's rules), 2-D 2.56 m, {RECIPE_SECONDS} s");
+    let recipe_label = format!("recipe (the default's rules), 2-D, {RECIPE_SECONDS} s");
     let mut wl = model_series(
         &format!("paper's rules, 96 x 24 cm, {t1} s"),
         &d50,

@@ -14,6 +14,8 @@
 //! - [`acoustics`]: bulk density, sound speed and impedance per automaton.
 //! - [`clock`]: the physical duration of a step from the Meyer-Peter & Mueller bedload
 //!   ([`clock::StepClock`]).
+//! - [`travel`]: the median grain's flat-bed travel, and the bin of `bin_travels`
+//!   ([`travel::median_travel`]).
 //! - [`equilibrium`]: running until the field is mature ([`equilibrium::run_until_mature`]).
 //! - [`predictors`]: the ripple that Soulsby & Whitehouse (2005) or Wiberg & Harris (1994)
 //!   expect for a run, as a check ([`predictors::Prediction`]).
@@ -65,6 +67,7 @@ pub mod recipe;
 pub mod regime;
 pub mod rules;
 pub mod spectrum;
+pub mod travel;
 pub mod volume;
 pub mod water;
 pub mod waves;

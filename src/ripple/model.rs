@@ -88,8 +88,12 @@ pub struct Ripple {
 impl Ripple {
     /// A run from a rough flat bed: column heights `layers` + uniform noise in
     /// `-roughness..=roughness`, grain classes drawn from the log-normal-in-phi distribution,
-    /// initial porosity "average" (Table 5); then relaxed so that no slope exceeds alpha.
+    /// initial porosity "average" (Table 5); then relaxed so that no slope exceeds alpha. With
+    /// `bin_travels` the run is on the parameters of [`RippleParams::with_travel_bin`].
     pub fn new(p: &RippleParams) -> Result<Self, RippleError> {
+        p.validate()?;
+        // the bin in flat-bed travels, where `bin_travels` asks for it
+        let p = &p.with_travel_bin();
         p.validate()?;
         let mut rng = rng::stream(p.seed);
         let r = p.roughness as i64;
@@ -104,7 +108,8 @@ impl Ripple {
 
     /// A run from given column heights (row-major, `nx x rows` of them, each at most the
     /// column capacity); grain classes drawn as in [`Ripple::new`]. Zero heights are bare spots
-    /// (the substrate, which never erodes).
+    /// (the substrate, which never erodes). With `bin_travels` the parameters must be on their
+    /// bin ([`RippleParams::with_travel_bin`]).
     pub fn from_heights(p: &RippleParams, heights: &[usize]) -> Result<Self, RippleError> {
         Self::from_heights_seeded(p, heights, p.seed)
     }
@@ -118,6 +123,17 @@ impl Ripple {
         stream_seed: u64,
     ) -> Result<Self, RippleError> {
         p.validate()?;
+        if let Some(b) = p.travel_bin().filter(|&b| b != p.bin_size) {
+            return Err(RippleError::Range {
+                parameter: "bin_size",
+                value: super::params::shown(p.bin_size),
+                expected: format!(
+                    "the bin of bin_travels = {}, {} m, where column heights are given (they are counts of automata on that bin: RippleParams::with_travel_bin gives its parameters)",
+                    super::params::shown(p.bin_travels),
+                    super::params::shown(b)
+                ),
+            });
+        }
         let rng = rng::stream(stream_seed);
         Self::build(p, heights, rng)
     }

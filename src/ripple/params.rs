@@ -241,6 +241,19 @@ pub struct RippleParams {
     /// Default false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub hop_exponential: bool,
+    /// The bin in flat-bed travels (opt-in): when above 0, a run's bin is `bin_travels x` the
+    /// median grain's nominal flat-bed travel in the current, `hop_grains x d50 x (theta /
+    /// theta_cr - 1)` at `current_speed` (`travel::median_travel`), to 3 significant
+    /// digits, and its automata and layers follow, keeping the ratio of `bin_size` to
+    /// `layer_thickness` and the depth of sand `layers x layer_thickness`
+    /// ([`RippleParams::with_travel_bin`]; where the median grain does not move in the current
+    /// the bin is `bin_size`). A bin coarser than the travel makes every hop that moves a grain
+    /// a whole bin, longer than the physics' travel, and the ripples with it; with the bin a
+    /// fixed part of the travel every grain and current is resolved alike. Needs `hop_grains`
+    /// (a travel in metres). 0..=100 (0: off, the bin is `bin_size`). Left out of files when 0.
+    /// Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub bin_travels: f64,
     /// Crest suspension (opt-in), m: a grain that the flow has moved (at least one hop,
     /// outside the lee vortex) from a column whose top stood `zeta` metres above the bed's
     /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^n)` (`n` the
@@ -259,7 +272,7 @@ pub struct RippleParams {
     pub crest_suspension_grains: f64,
     /// Crest suspension's length in flat-bed travels (opt-in): when above 0, crest suspension
     /// acts with `L = crest_suspension_hops x` the median grain's mean travel on a flat bed in
-    /// the step's free-stream flow ([`super::clock::median_travel`]), the same `L`
+    /// the step's free-stream flow (`travel::median_travel`), the same `L`
     /// for every grain class, in place of `crest_suspension` and `crest_suspension_grains`
     /// (which must then be 0). Our reading: a crest sheds the grains that it lifts out of the
     /// bedload layer, whose thickness grows with the transport stage as the grains' hop
@@ -358,6 +371,7 @@ impl Default for RippleParams {
             friction: 0.6,
             hop_length: 1.5,
             hop_grains: 0.0,
+            bin_travels: 0.0,
             crest_suspension: 0.0,
             crest_suspension_grains: 0.0,
             crest_suspension_hops: 0.0,
@@ -393,6 +407,7 @@ impl RippleParams {
             frame: Frame::Grid,
             hop_grains: 1.0,
             hop_exponential: true,
+            bin_travels: 1.0,
             stoss_face_hold: true,
             crest_suspension: 0.5,
             crest_suspension_grains: 1.0,
@@ -730,6 +745,18 @@ impl RippleParams {
         }
     }
 
+    /// The automaton (m) and layers that go with a bin of `bin` m where the automata follow
+    /// the bin: this bin's ratio of bin to automaton and its depth of sand in metres (the
+    /// automaton to 10 significant digits, as if typed; the layers rounded, at least 1).
+    pub fn automata_for_bin(&self, bin: f64) -> (f64, usize) {
+        let t = bin * self.layer_thickness / self.bin_size;
+        let t: f64 = format!("{t:.9e}").parse().unwrap_or(t);
+        let layers = (self.layers as f64 * self.layer_thickness / t)
+            .round()
+            .max(1.0) as usize;
+        (t, layers)
+    }
+
     /// Whether crest suspension acts (one of its three lengths is set).
     pub fn crest_suspension_on(&self) -> bool {
         self.crest_suspension_hops > 0.0 || self.crest_suspension_m() > 0.0
@@ -914,6 +941,14 @@ impl RippleParams {
         check_f("friction", self.friction, 0.0, 100.0, true, false)?;
         check_f("hop_length", self.hop_length, 0.0, 1e4, true, false)?;
         check_f("hop_grains", self.hop_grains, 0.0, 1e5, false, false)?;
+        check_f("bin_travels", self.bin_travels, 0.0, 100.0, false, false)?;
+        if self.bin_travels > 0.0 && self.hop_grains <= 0.0 {
+            return Err(range(
+                "bin_travels",
+                shown(self.bin_travels),
+                "0 when hop_grains is 0 (the bin in flat-bed travels needs a travel in metres, hop_grains > 0)",
+            ));
+        }
         check_f(
             "crest_suspension",
             self.crest_suspension,
@@ -1103,6 +1138,10 @@ mod tests {
         };
         for (e, key) in [
             (bad(|p| p.hop_grains = -1.0), "hop_grains = -1"),
+            (bad(|p| p.bin_travels = -1.0), "bin_travels = -1"),
+            (bad(|p| p.bin_travels = 101.0), "bin_travels = 101"),
+            // a travel in metres is needed
+            (bad(|p| p.bin_travels = 0.75), "bin_travels = 0.75"),
             (bad(|p| p.hop_grains = f64::NAN), "hop_grains = NaN"),
             (
                 bad(|p| p.crest_suspension = -0.01),

@@ -4,8 +4,10 @@
 //! Principal type: [`Recipe`]. [`Recipe::Paper`] is the paper's rules and its Fig. 3
 //! situation, the library's [`RippleParams::default`]; [`Recipe::MatureCurrent`] is the file
 //! `docs/ripple_mature_current.toml` (docs/ripple.md, "A recipe for mature current ripples"):
-//! bins of 2.5 mm, 0.75-1.5 of the grains' flat-bed travel (1.6-3.4 mm at 0.5 m/s), a short
-//! exponential travel in grain diameters, the leading bed stress, flow separation, thicker
+//! bins of 0.75 of the median grain's flat-bed travel in the current
+//! ([`RippleParams::bin_travels`]; 1.23 / 1.86 / 2.51 mm at 0.1 / 0.2 / 0.4 mm and 0.5 m/s),
+//! automata a tenth of the bin and 10 cm of sand, a short exponential travel in grain
+//! diameters, the leading bed stress, flow separation, thicker
 //! water slices, crest suspension at `L` = 4 flat-bed travels of the median grain with a
 //! sharp threshold, and the face hold (a grain is held wherever the rise ahead of it is
 //! steeper than beta, [`RippleParams::stoss_face_hold`]), which give current ripples that stop
@@ -25,6 +27,13 @@ use super::params::RippleParams;
 /// simulated seconds: 6 hours (the recipe's sections stop at 969-5155 s at 0.1-0.4 mm;
 /// docs/ripple.md, "A recipe for mature current ripples").
 pub const DEFAULT_CAP_S: f64 = 21_600.0;
+
+/// The current speed, m/s, at which the recipe for mature current ripples was measured
+/// against Soulsby & Whitehouse (2005): its ripples grow with the grains' flat-bed travel, and
+/// so with the current, where nature's equilibrium current ripples keep their size
+/// (docs/ripple.md, "The current's speed"); `cellsurf ripple` warns where the travel differs
+/// from that at this speed by more than a quarter.
+pub const MEASURED_SPEED: f64 = 0.5;
 
 /// The text of the recipe for mature current ripples (a ripple scenario file).
 pub const MATURE_CURRENT: &str = include_str!("../../docs/ripple_mature_current.toml");
@@ -73,13 +82,14 @@ impl Recipe {
     }
 
     /// Whether its automata follow its bin where only the bin is given (`--bin-size` without
-    /// `--layer-thickness`): the recipe for mature current ripples is one resolution, automata
-    /// a tenth of the bin, so a bin of half its size halves the automata as well (and doubles
-    /// `layers`, keeping its 10 cm of sand). Its ripples depend on the two together: before
-    /// the face hold, with the automata kept at 0.25 mm, bins of 1.25 mm made them 33-41 %
-    /// shorter and bins of 5 mm 33-34 % longer, against 11-17 % shorter and 13-46 % longer
-    /// with the automata following (now 0-9 % shorter and 13-43 % longer; docs/ripple.md,
-    /// "The bin"). The paper's rules keep their automata (the paper gives the two apart).
+    /// `--layer-thickness`), as they follow its bin of flat-bed travels: the recipe for mature
+    /// current ripples is one resolution, automata a tenth of the bin, so a bin of half its
+    /// size halves the automata as well (and doubles `layers`, keeping its 10 cm of sand). Its
+    /// ripples depend on the two together: in its former fixed bins of 2.5 mm, before the face
+    /// hold, with the automata kept at 0.25 mm, bins of 1.25 mm made them 33-41 % shorter and
+    /// bins of 5 mm 33-34 % longer, against 11-17 % shorter and 13-46 % longer with the
+    /// automata following (docs/ripple.md, "The bin"). The paper's rules keep their automata
+    /// (the paper gives the two apart).
     pub fn automata_follow_bin(self) -> bool {
         self == Recipe::MatureCurrent
     }
@@ -89,11 +99,7 @@ impl Recipe {
     /// automaton and its depth of sand in metres (layers rounded to a whole number, at least
     /// 1). The thickness is rounded to 10 significant digits, as if typed.
     pub fn automata_for_bin(self, bin_size: f64) -> (f64, usize) {
-        let r = self.params();
-        let t = bin_size * r.layer_thickness / r.bin_size;
-        let t: f64 = format!("{t:.9e}").parse().unwrap_or(t);
-        let layers = (r.layers as f64 * r.layer_thickness / t).round().max(1.0) as usize;
-        (t, layers)
+        self.params().automata_for_bin(bin_size)
     }
 }
 
@@ -134,6 +140,7 @@ mod tests {
             bin_size: 0.0025,
             layer_thickness: 0.00025,
             layers: 400,
+            bin_travels: 0.75,
             hop_grains: 4.6875,
             hop_exponential: true,
             stress_lead: 4.0,
