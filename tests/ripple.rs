@@ -1267,8 +1267,14 @@ fn bin_travels_runs_on_the_bin_of_the_travel() {
         (q.bin_size, q.layer_thickness, q.layers),
         (0.00123, 0.000123, 813)
     );
-    let r = Ripple::new(&p).unwrap();
+    let mut r = Ripple::new(&p).unwrap();
     assert_eq!(r.params(), &q);
+    // a current changed on the built lattice keeps its bin
+    r.set_current(0.6, 0.0).unwrap();
+    assert_eq!(
+        (r.params().bin_size, r.params().bin_travels),
+        (0.00123, 0.0)
+    );
     let clock = |p: &RippleParams| cellsurf::ripple::clock::StepClock::of(p).unwrap();
     assert_eq!(clock(&p), clock(&q));
     let e = Ripple::from_heights(&p, &vec![400; 32])

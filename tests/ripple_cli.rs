@@ -1720,9 +1720,8 @@ fn help_gives_each_recipes_own_defaults() {
         format!("[default: mature-current {}x{},", m.nx, m.ny),
         format!("paper {}x{}]", p.nx, p.ny),
         format!(
-            "[default: mature-current 10 cm of sand, {} with bins of {} mm; paper {}]",
-            m.layers,
-            m.bin_size * 1e3,
+            "[default: mature-current 10 cm of sand, {} in its bins for 0.2 mm sand at 0.5 m/s; paper {}]",
+            m.with_travel_bin().layers,
             p.layers
         ),
         format!(
@@ -1745,11 +1744,13 @@ fn help_gives_each_recipes_own_defaults() {
     }
 }
 
-/// The recipe for mature current ripples warns where the current changes the grains'
-/// flat-bed travel by more than a quarter from that at the speed it was measured at (its
-/// ripples follow the travel, nature's current ripples keep their size), naming the speed and
-/// the ratio; not near that speed, not with the paper's rules, not where the waves dominate.
-/// Its bin follows the travel (the printed scenarios' `bin_size`).
+/// The recipe for mature current ripples warns where the current takes the grains' flat-bed
+/// travel outside 0.8 to 1.25 times that at the speed it was measured at (its ripples follow
+/// the travel, nature's current ripples keep their size), naming the speed and the ratio
+/// (0.2 mm sand: 0.45 m/s warns, 0.47 m/s does not); not with the paper's rules, not where the
+/// waves dominate. Its bin follows the travel (the printed scenarios' `bin_size`), down to the
+/// finest bin that holds the sand near the threshold of motion (0.3 m/s), which a run's note
+/// says.
 #[test]
 fn the_recipe_warns_where_the_current_changes_its_travel() {
     let warned = "warning: the recipe mature-current was measured against Soulsby & Whitehouse";
@@ -1768,10 +1769,14 @@ fn the_recipe_warns_where_the_current_changes_its_travel() {
         bin(&slow) < 0.00186 && bin(&fast) > 0.00186,
         "{slow}\n{fast}"
     );
+    let (_, e) = printed_scenario(&["--current-speed", "0.45"]);
+    assert!(e.contains(warned) && e.contains("is 0.74 times"), "{e}");
     for quiet in [
-        vec!["--current-speed", "0.52"],
+        vec!["--current-speed", "0.47"],
         vec!["--current-speed", "0.35", "--recipe", "paper"],
         vec![
+            "--recipe",
+            "mature-current",
             "--current-speed",
             "0.35",
             "--wave-velocity",
@@ -1783,4 +1788,27 @@ fn the_recipe_warns_where_the_current_changes_its_travel() {
         let (_, e) = printed_scenario(&quiet);
         assert!(!e.contains(warned), "{quiet:?}: {e}");
     }
+    // near the threshold: the finest bin that holds the 10 cm of sand, said in the note
+    let (gentle, _) = printed_scenario(&["--current-speed", "0.3"]);
+    assert!(
+        gentle.contains("\nbin_size = 0.000245\n") && gentle.contains("\nlayers = 4082\n"),
+        "{gentle}"
+    );
+    let o = cellsurf(&[
+        "ripple",
+        "--current-speed",
+        "0.3",
+        "--size",
+        "16x1",
+        "--steps",
+        "1",
+        "--json",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("note: bins of 0.75 flat-bed travels")
+            && e.contains("here the finest bin whose 0.1 m of sand fits in 4096 layers"),
+        "{e}"
+    );
 }

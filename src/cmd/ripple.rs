@@ -77,7 +77,7 @@ pub struct Args {
     #[arg(long, hide = true, value_parser = conv::count_in::<usize>(params::NY), conflicts_with = "size")]
     ny: Option<usize>,
     /// Mean initial sand thickness, automata per column, 1 to 4096 [default: mature-current
-    /// 10 cm of sand, 400 with bins of 2.5 mm; paper 30].
+    /// 10 cm of sand, 538 in its bins for 0.2 mm sand at 0.5 m/s; paper 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
     /// Horizontal bin size, m, above 0 and at most 100 [default: mature-current 0.75 flat-bed
@@ -795,8 +795,16 @@ fn params_from(
         .filter(|&b| b != p.bin_size && p.validate().is_ok())
     {
         let (t, layers) = p.automata_for_bin(b);
+        // typed automata are kept, with the layers they were given (as with --bin-size)
+        let layers = a.layers.unwrap_or(if a.layer_thickness.is_some() {
+            p.layers
+        } else {
+            layers
+        });
         let t = a.layer_thickness.unwrap_or(t);
-        let layers = a.layers.unwrap_or(layers);
+        let travel = cellsurf::ripple::clock::median_travel(&p, p.current_speed);
+        // (the bin of travels is rounded to 3 digits, within 0.5 %)
+        let floored = p.bin_travels * travel < 0.99 * b;
         if !params::LAYERS.contains(layers as u64) {
             bail!(
                 "bin_travels = {} gives a bin of {} m here ({} flat-bed travels of {} m, the median grain's in --current-speed = {} m/s), on which {} m of sand takes {layers} layers: expected at most {}; give --bin-size, --layers or --layer-thickness",
@@ -811,10 +819,20 @@ fn params_from(
         }
         // (a printed scenario shows the bin itself)
         bin_note = (!a.print_scenario).then(|| format!(
-            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s): --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {} m along the flow; --bin-size gives another bin",
+            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {} m along the section's x axis; --bin-size gives another bin",
             cellsurf::ripple::params::shown(p.bin_travels),
-            cellsurf::ripple::params::rounded(b / p.bin_travels),
+            cellsurf::ripple::params::rounded(travel),
             cellsurf::ripple::params::shown(p.current_speed),
+            if floored {
+                format!(
+                    ", here the finest bin whose {} m of sand fits in {} layers, {:.2} travels (the travel shrinks near the threshold of motion)",
+                    depth_m(p.layers as f64 * p.layer_thickness),
+                    params::LAYERS.max,
+                    b / travel
+                )
+            } else {
+                String::new()
+            },
             cellsurf::ripple::params::shown(b),
             cellsurf::ripple::params::shown(t),
             depth_m(layers as f64 * t),
@@ -828,7 +846,7 @@ fn params_from(
         let ratio = travel(p.current_speed) / travel(MEASURED_SPEED);
         if ratio.is_finite() && ratio > 0.0 && !(0.8..=1.25).contains(&ratio) {
             conv::note(format_args!(
-                "warning: the recipe {} was measured against Soulsby & Whitehouse (2005) at {MEASURED_SPEED} m/s; its ripples grow with the grains' flat-bed travel (about 70 travels long), which at --current-speed = {} m/s is {:.2} times that at {MEASURED_SPEED} m/s, where nature's equilibrium current ripples keep their size as the current changes (0.2 mm sand: 4.7 / 17.3 / 33.6 cm at 0.35 / 0.5 / 0.65 m/s against their 14.6 cm; docs/ripple.md, \"The current's speed\")",
+                "warning: the recipe {} was measured against Soulsby & Whitehouse (2005) at {MEASURED_SPEED} m/s; its ripples grow with the grains' flat-bed travel (about 70 travels long), which at --current-speed = {} m/s is {:.2} times that at {MEASURED_SPEED} m/s, where nature's equilibrium current ripples keep their size as the current changes (0.2 mm sand: 5.1 / 17.3 / 33.7 cm at 0.35 / 0.5 / 0.65 m/s against their 14.6 cm; docs/ripple.md, \"The current's speed\")",
                 Recipe::MatureCurrent,
                 p.current_speed,
                 ratio

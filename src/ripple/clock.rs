@@ -11,8 +11,9 @@
 //!
 //! **The model's flux.** A step activates `activity x automata` automata; on a flat bed each
 //! travels a mean distance `l` (m), measured once per run by setting grains off one at a time
-//! on a flat bed of the run's sediment and flow (a 32 x 32 patch, or 64 columns in 2-D;
-//! 2,000 grains per wave phase, a stream of its own so the run itself is unchanged): in phases
+//! on a flat bed of the run's sediment and flow (a 32 x 32 patch, or 64 columns in 2-D; with
+//! a travel in metres at least 0.25 m along the flow, and across it too except for a run with
+//! its bin in travels in the flow frame; 2,000 grains per wave phase, a stream of its own so the run itself is unchanged): in phases
 //! where no grain class can move, nothing is activated. Each automaton holds `gd (1 - eps)`
 //! m of solid per unit bed area (`eps` the initial bed's porosity), so the model moves
 //! `activity x layers x gd (1 - eps) x l` m^2 of grains per metre of width and per step.
@@ -209,9 +210,19 @@ fn patch(p: &RippleParams) -> RippleParams {
     };
     // A travel in metres (`hop_grains`) must not wrap around the patch: at least 0.25 m along
     // the flow (six mean travels of 4 cm; an exponential travel's tail beyond is e^-6).
+    // Across the flow a run with its bin in travels (`bin_travels`) keeps 32 rows in the flow
+    // frame, where the travel runs along x (on a flat bed the straight step is the cheapest),
+    // so that a patch of fine bins stays small.
     let (nx, ny) = if p.hop_grains > 0.0 {
         let n = ((0.25 / p.bin_size).ceil() as usize).clamp(nx, 4096);
-        (n, if p.mode == Mode::TwoD { 1 } else { n.max(ny) })
+        let across = if p.mode == Mode::TwoD {
+            1
+        } else if p.bin_travels > 0.0 && p.frame == super::params::Frame::Flow {
+            ny
+        } else {
+            n.max(ny)
+        };
+        (n, across)
     } else {
         (nx, ny)
     };
@@ -235,7 +246,8 @@ fn patch_stream(p: &RippleParams) -> u64 {
 /// flow, averaged over the wave phases (0 in phases where nothing is activated), and the
 /// porosity of that (initial) bed.
 pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
-    let q = patch(p);
+    // on the run's own bin ([`RippleParams::with_travel_bin`])
+    let q = patch(&p.with_travel_bin());
     let (nx, ny) = (q.nx, q.rows());
     let h0 = q.layers.max(1);
     let mut r = Ripple::from_heights_seeded(&q, &vec![h0; nx * ny], patch_stream(p))?;

@@ -242,11 +242,14 @@ impl Ripple {
     /// lattice (or a 2-D section) was turned with the starting flow, so its direction cannot
     /// change, except that a section's current may reverse along it (start in the grid frame
     /// to turn the current during a 3-D run; a section in the grid frame runs along x, 0 or
-    /// 180 deg). Errors name the parameter and leave the run unchanged.
+    /// 180 deg). With `bin_travels` the bin stays the one the run was built on (its parameters
+    /// then say `bin_travels = 0`). Errors name the parameter and leave the run unchanged.
     pub fn set_current(&mut self, speed: f64, angle: f64) -> Result<(), RippleError> {
         let mut p = self.p.clone();
         p.current_speed = speed;
         p.current_angle = angle;
+        // the lattice is built: its bin no longer follows the travel (`bin_travels`)
+        p.bin_travels = 0.0;
         p.validate()?;
         if p.frame == Frame::Flow
             && (p.frame_angle() - self.p.frame_angle()).rem_euclid(360.0) != 0.0

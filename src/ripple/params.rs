@@ -244,7 +244,9 @@ pub struct RippleParams {
     /// The bin in flat-bed travels (opt-in): when above 0, a run's bin is `bin_travels x` the
     /// median grain's nominal flat-bed travel in the current, `hop_grains x d50 x (theta /
     /// theta_cr - 1)` at `current_speed` (`travel::median_travel`), to 3 significant
-    /// digits, and its automata and layers follow, keeping the ratio of `bin_size` to
+    /// digits (at least the finest bin whose automata hold the sand in 4096 layers,
+    /// [`RippleParams::finest_bin`], which binds near the threshold of motion), and its
+    /// automata and layers follow, keeping the ratio of `bin_size` to
     /// `layer_thickness` and the depth of sand `layers x layer_thickness`
     /// ([`RippleParams::with_travel_bin`]; where the median grain does not move in the current
     /// the bin is `bin_size`). A bin coarser than the travel makes every hop that moves a grain

@@ -31,8 +31,8 @@ pub const DEFAULT_CAP_S: f64 = 21_600.0;
 /// The current speed, m/s, at which the recipe for mature current ripples was measured
 /// against Soulsby & Whitehouse (2005): its ripples grow with the grains' flat-bed travel, and
 /// so with the current, where nature's equilibrium current ripples keep their size
-/// (docs/ripple.md, "The current's speed"); `cellsurf ripple` warns where the travel differs
-/// from that at this speed by more than a quarter.
+/// (docs/ripple.md, "The current's speed"); `cellsurf ripple` warns where the travel is
+/// outside 0.8 to 1.25 times that at this speed.
 pub const MEASURED_SPEED: f64 = 0.5;
 
 /// The text of the recipe for mature current ripples (a ripple scenario file).

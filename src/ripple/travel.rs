@@ -23,14 +23,26 @@ pub fn median_travel(p: &RippleParams, speed: f64) -> f64 {
 impl RippleParams {
     /// The bin of a run with `bin_travels` ([`RippleParams::bin_travels`]): `bin_travels x`
     /// the median grain's nominal flat-bed travel in the current ([`median_travel`] at
-    /// `current_speed`), m, to 3 significant digits; `None` where the key is 0, there is no
-    /// travel in metres, or the median grain does not move in the current.
+    /// `current_speed`), m, to 3 significant digits, and at least [`RippleParams::finest_bin`]
+    /// (near the threshold of motion the travel shrinks towards 0); `None` where the key is 0,
+    /// there is no travel in metres, or the median grain does not move in the current.
     pub fn travel_bin(&self) -> Option<f64> {
         if self.bin_travels <= 0.0 || self.hop_grains <= 0.0 {
             return None;
         }
         let b = self.bin_travels * median_travel(self, self.current_speed);
-        (b.is_finite() && b > 0.0).then(|| rounded_to(b, 3))
+        (b.is_finite() && b > 0.0).then(|| rounded_to(b, 3).max(self.finest_bin()))
+    }
+
+    /// The finest bin whose automata (following the bin, [`RippleParams::automata_for_bin`])
+    /// hold this depth of sand, `layers x layer_thickness`, in at most 4096 layers, m, rounded
+    /// up to 3 significant digits: the least bin of `bin_travels`.
+    pub fn finest_bin(&self) -> f64 {
+        let depth = self.layers as f64 * self.layer_thickness;
+        let b = depth * self.bin_size / self.layer_thickness / (super::params::LAYERS.max as f64);
+        let scale = 10f64.powi(2 - b.log10().floor() as i32);
+        let up = (b * scale - 1e-9).ceil() / scale;
+        format!("{up:.2e}").parse().unwrap_or(up)
     }
 
     /// These parameters on the bin of [`RippleParams::travel_bin`], the automata and layers
@@ -104,6 +116,17 @@ mod tests {
         assert!(bin(0.1, 0.5) < bin(0.2, 0.5) && bin(0.2, 0.5) < bin(0.4, 0.5));
         assert!(bin(0.2, 0.4) < bin(0.2, 0.5) && bin(0.2, 0.5) < bin(0.2, 0.65));
         assert_eq!(bin(0.2, 0.1), None);
+        // near the threshold the travel shrinks: the bin stops at the finest that holds the
+        // 10 cm of sand in 4096 layers (0.2 mm sand at 0.3 m/s: 0.75 travels are 0.219 mm)
+        assert_eq!(p.finest_bin(), 0.000245);
+        let gentle = RippleParams {
+            current_speed: 0.3,
+            ..p.clone()
+        };
+        assert!(0.75 * median_travel(&gentle, 0.3) < 0.000245);
+        let g = gentle.with_travel_bin();
+        assert_eq!((g.bin_size, g.layers), (0.000245, 4082));
+        assert!(g.validate().is_ok());
         let still = RippleParams {
             current_speed: 0.1,
             ..p.clone()
