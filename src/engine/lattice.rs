@@ -466,10 +466,10 @@ impl Lattice {
         y * self.width + x
     }
 
-    /// `(x, y)` of a cell index.
-    #[inline]
+    /// `(x, y)` of a cell index (by strength-reduced division: hot loops may call it).
+    #[inline(always)]
     pub fn coords(&self, cell: usize) -> (usize, usize) {
-        (cell % self.width, cell / self.width)
+        self.split(cell)
     }
 
     /// Physical position of a cell centre, in cell widths: square cells at `(x, y)`;
@@ -542,6 +542,9 @@ fn wrap(v: i64, n: usize, edge: Edge) -> Option<usize> {
         Some(v as usize)
     } else {
         match edge {
+            // (a neighbour is at most one period off: no division for it)
+            Edge::Periodic if (-n..0).contains(&v) => Some((v + n) as usize),
+            Edge::Periodic if (n..2 * n).contains(&v) => Some((v - n) as usize),
             Edge::Periodic => Some(v.rem_euclid(n) as usize),
             Edge::Wall => None,
         }

@@ -13,8 +13,9 @@
 //! travels a mean distance `l` (m), measured once per run by setting grains off one at a time
 //! on a flat bed of the run's sediment and flow (a 32 x 32 patch, or 64 columns in 2-D; with
 //! a travel in metres at least 0.25 m along the flow, and across it too except for a run with
-//! its bin in travels in the flow frame; 2,000 grains per wave phase, a stream of its own so the run itself is unchanged): in phases
-//! where no grain class can move, nothing is activated. Each automaton holds `gd (1 - eps)`
+//! its bin in travels in the flow frame; 2,000 grains per wave phase, a stream of its own so
+//! the run itself is unchanged): in phases where no grain class can move, nothing is
+//! activated. Each automaton holds `gd (1 - eps)`
 //! m of solid per unit bed area (`eps` the initial bed's porosity), so the model moves
 //! `activity x layers x gd (1 - eps) x l` m^2 of grains per metre of width and per step.
 //!

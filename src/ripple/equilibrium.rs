@@ -7,8 +7,8 @@
 //! only where it is a doubling). Two doublings, not one, because fields pause while they
 //! coarsen: a field can change by less than 10 % between `t` and `2 t` and then grow again
 //! (wave ripples without their lee vortex: 16.0 cm at 32,000 and 64,000 steps, 42.7 cm after
-//! two hours, 521,129 steps). Only a field that has grown counts: its height must be at least [`GROWN`]
-//! times the initial bed's (a bed that stays at its initial roughness has not formed ripples
+//! two hours, 521,129 steps). Only a field that has grown counts: its height must be at least
+//! [`GROWN`] times the initial bed's (a bed that stays at its initial roughness has not formed ripples
 //! yet, and coarse sand may need far longer to start), so a bed that never forms ripples runs
 //! to the cap.
 //!

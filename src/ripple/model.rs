@@ -63,6 +63,9 @@ pub struct Ripple {
     pub(crate) alpha_layers: [f64; 2],
     /// Stoss stability threshold in automata, axial and diagonal (tan beta dx / gd).
     pub(crate) beta_layers: [f64; 2],
+    /// `floor` and `ceil` of each of [`Self::beta_layers`] (the stoss rules compare whole
+    /// automata with them on every grain).
+    pub(crate) beta_whole: [(f64, f64); 2],
     /// Whether the stoss cap acts: the current dominates ([`RippleParams::waves_dominate`],
     /// computed once rather than per roll).
     pub(crate) stoss_capped: bool,
@@ -190,6 +193,7 @@ impl Ripple {
             stats: RippleStats::default(),
             alpha_layers: [t(p.avalanche_angle), t(p.avalanche_angle) * sq2],
             beta_layers: [t(p.stoss_angle), t(p.stoss_angle) * sq2],
+            beta_whole: [t(p.stoss_angle), t(p.stoss_angle) * sq2].map(|b| (b.floor(), b.ceil())),
             stoss_capped: !p.waves_dominate(),
             face_hold: p.stoss_face_hold && !p.waves_dominate(),
             gamma_layers: t(p.creep_angle),
@@ -373,21 +377,35 @@ impl Ripple {
         None
     }
 
+    /// Calls `f` with each column next to `c`, in the lattice's order
+    /// ([`Lattice::for_each_neighbour`]): in a 2-D section the columns at +x and -x, found
+    /// without the lattice's boundary rules (every column of a one-row section is on its
+    /// edge).
+    #[inline(always)]
+    pub(crate) fn for_each_next(&self, c: usize, mut f: impl FnMut(usize)) {
+        if self.two_d {
+            f(self.nb(c, 0));
+            f(self.nb(c, 4));
+        } else {
+            self.lattice.for_each_neighbour(c, f);
+        }
+    }
+
     /// The neighbour of `c` that an avalanche from `c` would feed, if any (Eq. 6).
     pub(crate) fn steepest_descent(&self, c: usize) -> Option<usize> {
         let h = self.vol.height(c) as i64;
         if h < self.min_drop {
             return None;
         }
-        let list = self.lattice.neighbour_list(c);
         let mut best: Option<(f64, usize)> = None;
-        for (i, &n) in list.as_slice().iter().enumerate() {
-            let n = n as usize;
+        let mut i = 0;
+        self.for_each_next(c, |n| {
+            let diag = !self.two_d && i % 2 == 1;
+            i += 1;
             let diff = h - self.vol.height(n) as i64;
             if diff < self.min_drop || self.vol.is_full(n) {
-                continue;
+                return;
             }
-            let diag = !self.two_d && i % 2 == 1;
             let thr = self.alpha_layers[diag as usize];
             if diff as f64 > thr {
                 let score = diff as f64 / if diag { std::f64::consts::SQRT_2 } else { 1.0 };
@@ -395,7 +413,7 @@ impl Ripple {
                     best = Some((score, n));
                 }
             }
-        }
+        });
         best.map(|(_, n)| n)
     }
 }

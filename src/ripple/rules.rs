@@ -92,7 +92,7 @@ impl Ripple {
     pub(crate) fn nb(&self, c: usize, k: usize) -> usize {
         let (dx, dy) = MOORE[k % 8];
         let (nx, ny) = (self.nx, self.ny);
-        let (x, y) = (c % nx, c / nx);
+        let (x, y) = self.xy(c);
         let x2 = match dx {
             1 if x + 1 == nx => 0,
             1 => x + 1,
@@ -112,6 +112,19 @@ impl Ripple {
             }
         };
         y2 * nx + x2
+    }
+
+    /// Column `c`'s `(x, y)`, `(c mod nx, c / nx)`, without a division instruction (one per
+    /// neighbour looked at would weigh on every rule): a 2-D section is one row, and the
+    /// lattice divides by its row length strength-reduced
+    /// ([`crate::engine::lattice::Lattice::coords`]).
+    #[inline(always)]
+    pub(crate) fn xy(&self, c: usize) -> (usize, usize) {
+        if self.ny == 1 {
+            (c, 0)
+        } else {
+            self.lattice.coords(c)
+        }
     }
 
     /// Horizontal distance to octant `k`, m.
@@ -152,7 +165,7 @@ impl Ripple {
                 }
             }
             Abstraction::Slices => {
-                let (x, y) = (c % self.nx, c / self.nx);
+                let (x, y) = self.xy(c);
                 self.water.bed_speed(
                     self.vol.heights(),
                     self.nx,
@@ -206,7 +219,8 @@ impl Ripple {
     pub(crate) fn held_on_the_face(&mut self, c: usize, k: usize) -> bool {
         let rise = self.vol.height(self.nb(c, k)) as f64 - self.vol.height(c) as f64;
         let b = self.beta_layers[k % 2];
-        rise > b.ceil() || (rise > b.floor() && self.rng.random::<f64>() >= b - b.floor())
+        let (lo, hi) = self.beta_whole[k % 2];
+        rise > hi || (rise > lo && self.rng.random::<f64>() >= b - lo)
     }
 
     /// Whether a grain from `origin` deposited on `c` would make the rise to `c` from the
@@ -222,13 +236,14 @@ impl Ripple {
         let u = self.nb(c, k + 4);
         let up = (self.vol.height(u) + usize::from(u == origin)) as f64;
         let b = self.beta_layers[k % 2];
+        let (lo, hi) = self.beta_whole[k % 2];
         let rise = h - up;
-        if rise <= b.floor() {
+        if rise <= lo {
             false
-        } else if rise > b.ceil() {
+        } else if rise > hi {
             true
         } else {
-            self.rng.random::<f64>() >= b - b.floor()
+            self.rng.random::<f64>() >= b - lo
         }
     }
 
@@ -352,14 +367,10 @@ impl Ripple {
             return None;
         }
         let n = self.p.suspension_exponent;
-        // (the square as a product when n = 2, so that runs with the default exponent keep
-        // their bytes)
-        let p = if n == 2.0 {
-            (zeta / l).powi(2)
-        } else {
-            (zeta / l).powf(n)
-        };
-        if self.rng.random::<f64>() >= p {
+        let q = zeta / l;
+        let u = self.rng.random::<f64>();
+        let suspended = below_power(u, q, n);
+        if !suspended {
             return None;
         }
         let to = self.rng.random_range(0..columns);
@@ -528,8 +539,7 @@ impl Ripple {
         let mut stack = std::mem::take(&mut self.stack);
         stack.clear();
         for &s in lowered {
-            self.lattice
-                .for_each_neighbour(s as usize, |n| stack.push(n as u32));
+            self.for_each_next(s as usize, |n| stack.push(n as u32));
         }
         stack.extend_from_slice(raised);
         while let Some(c) = stack.pop() {
@@ -539,7 +549,7 @@ impl Ripple {
                 self.deposit(n, a, Deposit::Avalanche);
                 self.stats.avalanches += 1;
                 stack.push(n as u32);
-                self.lattice.for_each_neighbour(c, |m| stack.push(m as u32));
+                self.for_each_next(c, |m| stack.push(m as u32));
             }
         }
         self.stack = stack;
@@ -612,6 +622,31 @@ pub fn upper_octant_probability(frac: f64, k0: usize) -> f64 {
     a / (a + wb * (std::f64::consts::FRAC_PI_4 - phi).sin())
 }
 
+/// Whether a uniform draw `u` falls below `q^n` (`q > 0`): crest suspension's test. A whole
+/// exponent up to 64 goes by multiplications (pow is costly, and asked for on every moved grain
+/// above the mean level), with `q^n` itself only where `u` falls within 1e-12 of the product,
+/// further than the products can stray from `q^n` (at most about 2 log2(n) roundings of
+/// 2^-53, the product being a normal number): the outcome of comparing with `q^n` (`powf`),
+/// and the product `q q` itself for `n = 2`.
+#[inline]
+pub(crate) fn below_power(u: f64, q: f64, n: f64) -> bool {
+    if n == 2.0 {
+        return u < q.powi(2);
+    }
+    if n.fract() == 0.0 && (1.0..=64.0).contains(&n) {
+        let near = q.powi(n as i32);
+        if near.is_normal() {
+            if u >= near * (1.0 + 1e-12) {
+                return false;
+            }
+            if u < near * (1.0 - 1e-12) {
+                return true;
+            }
+        }
+    }
+    u < q.powf(n)
+}
+
 /// Eq. (1) (second form) and Eq. (7): the length of one space step,
 /// `Delta s = sqrt(Delta x^2 + (Delta h + gd)^2)` with `Delta x` the horizontal distance
 /// (including Delta y), all in metres.
@@ -636,6 +671,73 @@ mod tests {
         };
         f(&mut p);
         Ripple::from_heights(&p, heights).unwrap()
+    }
+
+    /// A run of `nx` x `ny` columns of 4 layers (a section when `ny` is 1).
+    fn small(nx: usize, ny: usize) -> Ripple {
+        let p = RippleParams {
+            mode: if ny == 1 { Mode::TwoD } else { Mode::ThreeD },
+            nx,
+            ny,
+            layers: 4,
+            ..RippleParams::default()
+        };
+        Ripple::new(&p).unwrap()
+    }
+
+    #[test]
+    fn xy_divides_by_the_row_length() {
+        for (nx, ny) in [(5, 3), (64, 33), (7, 7), (1024, 1)] {
+            let r = small(nx, ny);
+            for c in 0..nx * ny {
+                assert_eq!(r.xy(c), (c % nx, c / nx), "{nx} x {ny}: {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_next_columns_are_the_lattice_neighbours_in_its_order() {
+        for (nx, ny) in [(5, 1), (64, 1), (6, 4)] {
+            let r = small(nx, ny);
+            for c in 0..nx * ny {
+                let mut next = Vec::new();
+                r.for_each_next(c, |n| next.push(n));
+                let want: Vec<usize> = r.lattice.neighbours(c).collect();
+                assert_eq!(next, want, "{nx} x {ny}: {c}");
+                assert_eq!(next.len(), if ny == 1 { 2 } else { 8 });
+            }
+        }
+    }
+
+    #[test]
+    fn below_power_compares_with_pow() {
+        use rand::RngExt;
+        let mut rng = crate::engine::rng::stream(11);
+        let mut agree = [0usize; 2];
+        for i in 0..200_000 {
+            let n = [2.0, 3.0, 8.0, 13.0, 64.0, 2.5, 70.0][i % 7];
+            let q: f64 = match i % 4 {
+                0 => rng.random_range(0.0..1.5),
+                1 => 10f64.powf(rng.random_range(-40.0..1.0)),
+                _ => rng.random::<f64>().powf(1.0 / n),
+            };
+            let pow = q.powf(n);
+            // draws at the power itself and a few roundings either side
+            let u = match i % 3 {
+                0 => rng.random::<f64>(),
+                1 => pow,
+                _ => pow * (1.0 + rng.random_range(-4.0..4.0) * f64::EPSILON),
+            };
+            let want = if n == 2.0 { u < q * q } else { u < pow };
+            assert_eq!(below_power(u, q, n), want, "u {u} q {q} n {n}");
+            agree[usize::from(want)] += 1;
+        }
+        assert!(agree.iter().all(|&a| a > 10_000), "{agree:?}");
+        // powers that underflow to 0 or to subnormal numbers go by pow itself
+        for q in [1e-50, 1e-39, 1e-38] {
+            assert_eq!(below_power(0.0, q, 8.0), 0.0 < q.powf(8.0), "{q}");
+        }
+        assert!(below_power(0.0, 1e-39, 8.0), "1e-312 is above 0");
     }
 
     #[test]

@@ -3,7 +3,8 @@
 //! the bed.
 //!
 //! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
-//! `current_angle` (on the lattice: less the frame's angle, [`RippleParams::frame_angle`]): a steady current `U_c` plus an oscillating (wave) component of amplitude
+//! `current_angle` (on the lattice: less the frame's angle, [`RippleParams::frame_angle`]): a
+//! steady current `U_c` plus an oscillating (wave) component of amplitude
 //! `U_w` and period `T` steps (for the bed stress, `U_w sqrt(f_w / (2 C_D))` when the run
 //! has a wave friction factor: [`RippleParams::wave_stress_amplitude`]); with a `wave_angle`
 //! of their own, the vector sum
@@ -31,6 +32,8 @@
 //! [`WaterVolume::section`] computes the whole sliced field of a row for figures.
 
 use std::f64::consts::PI;
+
+use strength_reduce::StrengthReducedU32;
 
 use super::params::RippleParams;
 
@@ -60,6 +63,13 @@ pub struct Flow {
     pub octant: f64,
     /// Offsets (dx, dy) of the points 1..=MAX_REACH bins upstream.
     pub upstream: Vec<(i32, i32)>,
+    /// Whether the flow runs along the rows (the point `k` bins upstream at `(-k, 0)` when
+    /// `Some(true)`, at `(k, 0)` when `Some(false)`, for every `k`): 2-D sections and the
+    /// current-aligned frame, whose upstream look-up then scans a row
+    /// ([`WaterVolume::speed_at_level`]); `None` for any other direction. Set by
+    /// [`Flow::at`] from `upstream`: a flow whose offsets are changed by hand sets it to `None`
+    /// (always correct, by offsets) or to what the new offsets are.
+    pub along_row: Option<bool>,
     /// The lee vortex of wave ripples (`wave_vortex`, where the waves dominate): how far the
     /// vortex has travelled since the flow last reversed, [`VORTEX_CONVECTION`] times the
     /// water's travel `A (1 - cos psi)`, in bins (at least 1), beyond which no crest shelters
@@ -105,7 +115,20 @@ impl Flow {
                 };
                 (dx, dy)
             })
-            .collect();
+            .collect::<Vec<_>>();
+        // (cos 180 deg is -1 exactly and sin 180 deg rounds to 0 at any reach, so the
+        // offsets beyond the table follow the row too)
+        let along_row = if (two_d || angle == 0.0 || angle == PI) && c.abs() == 1.0 {
+            let forward = c > 0.0;
+            let step = if forward { -1 } else { 1 };
+            let on_row = upstream
+                .iter()
+                .zip(1..)
+                .all(|(&o, k): (&(i32, i32), i32)| o == (step * k, 0));
+            on_row.then_some(forward)
+        } else {
+            None
+        };
         let vortex_reach =
             (p.wave_vortex > 0.0 && p.wave_period > 0.0 && p.waves_dominate()).then(|| {
                 let psi = (2.0 * PI * (t as f64 + 0.5) / p.wave_period).rem_euclid(PI);
@@ -117,19 +140,9 @@ impl Flow {
             angle,
             octant,
             upstream,
+            along_row,
             vortex_reach,
         }
-    }
-}
-
-/// `ceil(a / b)`, with the usual slice thicknesses (1, 2) without a division instruction (the
-/// division would dominate the upstream scan).
-#[inline(always)]
-fn ceil_div(a: usize, b: usize) -> usize {
-    match b {
-        1 => a,
-        2 => a.div_ceil(2),
-        _ => a.div_ceil(b),
     }
 }
 
@@ -161,6 +174,28 @@ fn wrapped(x: usize, y: usize, o: (i32, i32), nxi: i32, nyi: i32, nx: usize) -> 
     yy as usize * nx + xx as usize
 }
 
+/// `i mod n` by subtraction, without a division: `i` is at most a few times `n` here (the
+/// look-up reaches at most once around the torus, `nx + ny` points).
+#[inline(always)]
+fn wrap(mut i: usize, n: usize) -> usize {
+    while i >= n {
+        i -= n;
+    }
+    i
+}
+
+/// The index of the last element of `seg` above `base`.
+#[inline]
+fn last_above(seg: &[u16], base: u16) -> Option<usize> {
+    seg.iter().rposition(|&h| h > base)
+}
+
+/// The index of the first element of `seg` above `base`.
+#[inline]
+fn first_above(seg: &[u16], base: u16) -> Option<usize> {
+    seg.iter().position(|&h| h > base)
+}
+
 /// The sliced water volume's rules (Sect. 2.3).
 #[derive(Clone, Copy, Debug)]
 pub struct WaterVolume {
@@ -175,21 +210,63 @@ pub struct WaterVolume {
     /// per bin of the step to the next point downstream (in whole automata: [`Self::separation_drop`]);
     /// 0: every obstruction shelters.
     pub separation_slope: f64,
+    /// `slice_layers`, strength-reduced: the look-up divides by it for every obstruction.
+    slices: StrengthReducedU32,
+    /// [`Self::separation_drop`] over one bin, the step between the points of a row.
+    axial_drop: usize,
 }
 
 impl WaterVolume {
     /// The rules of a run.
     pub fn new(p: &RippleParams) -> Self {
-        WaterVolume {
-            slice_layers: p.slice_layers,
-            shadow_length: p.shadow_length,
+        WaterVolume::with(
+            p.slice_layers,
+            p.shadow_length,
             // the drag between slices is what brings a slice back up to speed (Sect. 2.3)
-            recovery_length: p.drag_delay,
-            separation_slope: if p.separation_angle > 0.0 {
+            p.drag_delay,
+            if p.separation_angle > 0.0 {
                 p.separation_angle.to_radians().tan() * p.bin_size / p.layer_thickness
             } else {
                 0.0
             },
+        )
+    }
+
+    /// The rules from their values: `slice_layers` (automata, at least 1), `shadow_length`
+    /// and `recovery_length` (bins per slice) and `separation_slope` (automata per bin, 0 for
+    /// none), as the fields document them.
+    pub fn with(
+        slice_layers: usize,
+        shadow_length: usize,
+        recovery_length: usize,
+        separation_slope: f64,
+    ) -> Self {
+        assert!(
+            (1..=u32::MAX as usize).contains(&slice_layers),
+            "slice_layers = {slice_layers}: expected at least 1"
+        );
+        let mut w = WaterVolume {
+            slice_layers,
+            shadow_length,
+            recovery_length,
+            separation_slope,
+            slices: StrengthReducedU32::new(slice_layers as u32),
+            axial_drop: 1,
+        };
+        w.axial_drop = w.separation_drop(1.0);
+        w
+    }
+
+    /// `ceil(a / slice_layers)`: the slices an obstruction `a` automata above a slice's level
+    /// rises over it.
+    #[inline(always)]
+    fn slices_over(&self, a: usize) -> usize {
+        match u32::try_from(a) {
+            Ok(a) => {
+                let (q, r) = StrengthReducedU32::div_rem(a, self.slices);
+                q as usize + usize::from(r > 0)
+            }
+            Err(_) => a.div_ceil(self.slice_layers),
         }
     }
 
@@ -247,15 +324,18 @@ impl WaterVolume {
         flow: &Flow,
     ) -> f64 {
         let t = self.slice_layers;
-        let j0 = ceil_div(level, t);
+        let j0 = self.slices_over(level);
         // Only obstructions up to `hmax_bound` exist, so nothing further upstream than
         // (shadow + recovery) x (slices between the level and hmax_bound) matters.
-        let e_bound = ceil_div(hmax_bound.saturating_sub(j0 * t), t);
+        let e_bound = self.slices_over(hmax_bound.saturating_sub(j0 * t));
         let per = self.shadow_length + self.recovery_length;
         // Looking further than once around the torus would only meet the same columns again.
         let reach = (per * e_bound + 1)
             .min(nx + ny)
             .min(flow.vortex_reach.unwrap_or(usize::MAX));
+        if let Some(forward) = flow.along_row {
+            return self.speed_along_row(&heights[y * nx..(y + 1) * nx], x, j0 * t, reach, forward);
+        }
         let (nxi, nyi) = (nx as i32, ny as i32);
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
         let reach_of = |e: usize| (self.shadow_length + self.recovery_length) * e;
@@ -282,7 +362,7 @@ impl WaterVolume {
                     continue;
                 }
             }
-            let e0 = ceil_div(h - j0 * t, t);
+            let e0 = self.slices_over(h - j0 * t);
             // The bed slice is within this obstruction's zero-speed zone.
             if k < self.shadow_length * e0 {
                 return 0.0;
@@ -294,6 +374,81 @@ impl WaterVolume {
             if s == 0.0 {
                 return 0.0;
             }
+        }
+        s
+    }
+
+    /// [`Self::speed_at_level`] where the flow runs along the row (`forward`: towards +x):
+    /// the same look-up over the `reach` points upstream of column `x` of `row`, for the
+    /// slice at level `base` automata, with the stretches of the row that nothing rises out
+    /// of skipped a chunk at a time.
+    fn speed_along_row(
+        &self,
+        row: &[u16],
+        x: usize,
+        base: usize,
+        reach: usize,
+        forward: bool,
+    ) -> f64 {
+        let nx = row.len();
+        let Ok(base16) = u16::try_from(base) else {
+            return 1.0; // nothing rises above the slice
+        };
+        // every step to the next point downstream is one bin long (the drop worked out at
+        // the first obstruction: most look-ups meet none)
+        let drop = (self.separation_slope > 0.0).then_some(self.axial_drop);
+        let mut s: f64 = 1.0;
+        let mut k = 0;
+        while k < reach {
+            // the point k + 1 bins upstream, and the stretch of the row from it that runs
+            // upstream without wrapping
+            let (p, hit) = if forward {
+                let p = wrap(x + nx - 1 - wrap(k, nx), nx);
+                let run = (reach - k).min(p + 1);
+                match last_above(&row[p + 1 - run..=p], base16) {
+                    None => {
+                        k += run;
+                        continue;
+                    }
+                    Some(i) => (p + 1 - run + i, p - (p + 1 - run + i)),
+                }
+            } else {
+                let p = wrap(x + 1 + wrap(k, nx), nx);
+                let run = (reach - k).min(nx - p);
+                match first_above(&row[p..p + run], base16) {
+                    None => {
+                        k += run;
+                        continue;
+                    }
+                    Some(i) => (p + i, i),
+                }
+            };
+            k += hit;
+            let h = row[p] as usize;
+            if let Some(drop) = drop {
+                // the next point downstream (k = 0: the bed's own column)
+                let on = if forward {
+                    (p + 1) % nx
+                } else {
+                    (p + nx - 1) % nx
+                };
+                if h < row[on] as usize + drop {
+                    k += 1;
+                    continue;
+                }
+            }
+            let e0 = self.slices_over(h - base);
+            if k < self.shadow_length * e0 {
+                return 0.0;
+            }
+            let d = k + 1;
+            if d <= (self.shadow_length + self.recovery_length) * e0 {
+                s = s.min(self.ramp(d, e0));
+            }
+            if s == 0.0 {
+                return 0.0;
+            }
+            k += 1;
         }
         s
     }
@@ -338,6 +493,18 @@ mod tests {
     }
 
     #[test]
+    fn slices_over_is_the_ceiling_of_the_quotient() {
+        for t in (1..=64).chain([100, 4096]) {
+            let w = WaterVolume::with(t, 1, 1, 0.0);
+            for a in (0..5000).chain([65_535, 65_536, 1 << 33]) {
+                assert_eq!(w.slices_over(a), a.div_ceil(t), "{a} / {t}");
+            }
+        }
+        assert_eq!(wrap(7, 3), 1);
+        assert_eq!(wrap(2, 3), 2);
+    }
+
+    #[test]
     fn flat_bed_is_fully_exposed() {
         let w = WaterVolume::new(&RippleParams::default());
         let h = vec![10u16; 20];
@@ -349,12 +516,7 @@ mod tests {
     /// Slices of one automaton, one bin of shadow and one of recovery per slice, over a 400-bin
     /// section at level 10 with a crest 100 slices high at x = 20.
     fn tall_crest() -> (WaterVolume, Vec<u16>, usize) {
-        let w = WaterVolume {
-            slice_layers: 1,
-            shadow_length: 1,
-            recovery_length: 1,
-            separation_slope: 0.0,
-        };
+        let w = WaterVolume::with(1, 1, 1, 0.0);
         let n = 400;
         let mut h = vec![10u16; n];
         h[20] = 110;
@@ -385,12 +547,7 @@ mod tests {
 
     #[test]
     fn sect_2_3_zero_behind_a_crest_then_recovering() {
-        let w = WaterVolume {
-            slice_layers: 1,
-            shadow_length: 2,
-            recovery_length: 2,
-            separation_slope: 0.0,
-        };
+        let w = WaterVolume::with(1, 2, 2, 0.0);
         let mut h = vec![10u16; 40];
         h[5] = 12; // a crest two slices high
         let f = flow_x();
@@ -411,7 +568,7 @@ mod tests {
     /// slowest of their ramps.
     fn speed_by_slices(w: &WaterVolume, h: &[u16], x: usize, level: usize, f: &Flow) -> f64 {
         let t = w.slice_layers;
-        let z = ceil_div(level, t) * t;
+        let z = level.div_ceil(t) * t;
         let mut s: f64 = 1.0;
         let at = |dx: i32| h[(x as i32 + dx).rem_euclid(h.len() as i32) as usize] as usize;
         for (k, &(dx, _)) in f.upstream.iter().enumerate() {
@@ -433,12 +590,12 @@ mod tests {
         let f = flow_x();
         let mut partial = 0;
         for case in 0..300 {
-            let w = WaterVolume {
-                slice_layers: 1 + case % 3,
-                shadow_length: case % 4,
-                recovery_length: (case / 3) % 5,
-                separation_slope: ((case / 15) % 4) as f64,
-            };
+            let w = WaterVolume::with(
+                1 + case % 3,
+                case % 4,
+                (case / 3) % 5,
+                ((case / 15) % 4) as f64,
+            );
             let nx = 90;
             let h: Vec<u16> = (0..nx).map(|_| rng.random_range(10..30)).collect();
             let hb = *h.iter().max().unwrap() as usize;
@@ -451,6 +608,83 @@ mod tests {
             }
         }
         assert!(partial > 1000, "few recovering slices: {partial}");
+    }
+
+    /// The row scan of a flow along the rows ([`Flow::along_row`]) gives what the look-up by
+    /// offsets gives, both ways along the row, wrapping, with and without separation, at the
+    /// bed and above it, and within a vortex's reach.
+    #[test]
+    fn the_row_scan_agrees_with_the_look_up_by_offsets() {
+        use rand::RngExt;
+        let mut rng = crate::engine::rng::stream(9);
+        let forward = flow_x();
+        assert_eq!(forward.along_row, Some(true));
+        let mut backward = forward.clone();
+        backward.angle = PI;
+        backward.upstream = (1..=MAX_REACH as i32).map(|k| (k, 0)).collect();
+        backward.along_row = Some(false);
+        let mut compared = [0usize; 3];
+        for case in 0..400 {
+            let w = WaterVolume::with(
+                1 + case % 6,
+                case % 3,
+                (case / 3) % 4,
+                ((case / 12) % 3) as f64 * 0.7,
+            );
+            let nx = [7, 40, 150][case % 3];
+            // a low bed with a few crests
+            let mut h: Vec<u16> = (0..nx).map(|_| rng.random_range(100..104)).collect();
+            for _ in 0..rng.random_range(0..5) {
+                let at = rng.random_range(0..nx);
+                h[at] = rng.random_range(104..180);
+            }
+            let hb = *h.iter().max().unwrap() as usize + rng.random_range(0..30);
+            for flow in [&forward, &backward] {
+                let mut by_offsets = flow.clone();
+                by_offsets.along_row = None;
+                let mut flow = flow.clone();
+                if case % 5 == 0 {
+                    let r = Some(rng.random_range(1..60));
+                    (flow.vortex_reach, by_offsets.vortex_reach) = (r, r);
+                }
+                for x in 0..nx {
+                    let level = h[x] as usize + [0, 1, 7][x % 3];
+                    let want = w.speed_at_level(&h, nx, 1, x, 0, level, hb, &by_offsets);
+                    let got = w.speed_at_level(&h, nx, 1, x, 0, level, hb, &flow);
+                    assert_eq!(got, want, "{w:?} nx {nx} x {x} level {level}");
+                    compared[if got == 0.0 {
+                        0
+                    } else if got < 1.0 {
+                        1
+                    } else {
+                        2
+                    }] += 1;
+                }
+            }
+        }
+        assert!(compared.iter().all(|&n| n > 1000), "{compared:?}");
+    }
+
+    /// A flow along neither axis scans by offsets.
+    #[test]
+    fn only_flows_along_the_rows_scan_a_row() {
+        let p = RippleParams::default();
+        assert_eq!(Flow::at(&p, 0, true).along_row, Some(true));
+        let grid = |current_angle: f64| RippleParams {
+            current_angle,
+            frame: super::super::params::Frame::Grid,
+            ..RippleParams::default()
+        };
+        assert_eq!(Flow::at(&grid(30.0), 0, false).along_row, None);
+        assert_eq!(Flow::at(&grid(90.0), 0, false).along_row, None);
+        assert_eq!(Flow::at(&grid(180.0), 0, false).along_row, Some(false));
+        assert_eq!(Flow::at(&grid(0.0), 0, false).along_row, Some(true));
+        // the flow frame turns the lattice to the current
+        let flow_frame = RippleParams {
+            current_angle: 30.0,
+            ..RippleParams::default()
+        };
+        assert_eq!(Flow::at(&flow_frame, 0, false).along_row, Some(true));
     }
 
     /// `separation_angle`: a bump whose lee drops less than the separation drop shelters
