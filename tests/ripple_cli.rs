@@ -1808,7 +1808,13 @@ fn the_recipe_warns_where_the_current_changes_its_travel() {
     assert!(o.status.success(), "{e}");
     assert!(
         e.contains("note: bins of 0.75 flat-bed travels")
-            && e.contains("here the finest bin whose 0.1 m of sand fits in 4096 layers"),
+            && e.contains("here the finest bin whose 0.1 m of sand fits in 4096 layers")
+            && e.contains("a section of 0.00392"),
         "{e}"
     );
+    // a 3-D field's note gives both its sides (16 x 4 bins of 1.86 mm)
+    let o = cellsurf(&["ripple", "--size", "16x4", "--steps", "1", "--json"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(e.contains("a field of 0.02976 x 0.00744"), "{e}");
 }

@@ -819,7 +819,7 @@ fn params_from(
         }
         // (a printed scenario shows the bin itself)
         bin_note = (!a.print_scenario).then(|| format!(
-            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {} m along the section's x axis; --bin-size gives another bin",
+            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {}; --bin-size gives another bin",
             cellsurf::ripple::params::shown(p.bin_travels),
             cellsurf::ripple::params::rounded(travel),
             cellsurf::ripple::params::shown(p.current_speed),
@@ -836,7 +836,15 @@ fn params_from(
             cellsurf::ripple::params::shown(b),
             cellsurf::ripple::params::shown(t),
             depth_m(layers as f64 * t),
-            cellsurf::ripple::params::rounded(b * p.nx as f64),
+            if p.ny > 1 {
+                format!(
+                    "a field of {} x {} m",
+                    cellsurf::ripple::params::rounded(b * p.nx as f64),
+                    cellsurf::ripple::params::rounded(b * p.ny as f64)
+                )
+            } else {
+                format!("a section of {} m", cellsurf::ripple::params::rounded(b * p.nx as f64))
+            },
         ));
         (p.bin_size, p.layer_thickness, p.layers) = (b, t, layers);
     }

@@ -389,6 +389,7 @@ impl Lattice {
     /// [`MAX_CELLS`]).
     #[inline(always)]
     fn split(&self, cell: usize) -> (usize, usize) {
+        debug_assert!(cell < self.len(), "cell {cell} of {}", self.len());
         let (y, x) = StrengthReducedU32::div_rem(cell as u32, self.wdiv);
         (x as usize, y as usize)
     }

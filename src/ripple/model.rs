@@ -178,6 +178,7 @@ impl Ripple {
         let hmax_bound = vol.heights().iter().copied().max().unwrap_or(0) as usize;
         let t = |deg: f64| deg.to_radians().tan() * p.bin_size / p.layer_thickness;
         let sq2 = std::f64::consts::SQRT_2;
+        let beta_layers = [t(p.stoss_angle), t(p.stoss_angle) * sq2];
         let mut r = Ripple {
             lattice,
             nx,
@@ -192,8 +193,8 @@ impl Ripple {
             t: 0,
             stats: RippleStats::default(),
             alpha_layers: [t(p.avalanche_angle), t(p.avalanche_angle) * sq2],
-            beta_layers: [t(p.stoss_angle), t(p.stoss_angle) * sq2],
-            beta_whole: [t(p.stoss_angle), t(p.stoss_angle) * sq2].map(|b| (b.floor(), b.ceil())),
+            beta_layers,
+            beta_whole: beta_layers.map(|b| (b.floor(), b.ceil())),
             stoss_capped: !p.waves_dominate(),
             face_hold: p.stoss_face_hold && !p.waves_dominate(),
             gamma_layers: t(p.creep_angle),

@@ -625,9 +625,10 @@ pub fn upper_octant_probability(frac: f64, k0: usize) -> f64 {
 /// Whether a uniform draw `u` falls below `q^n` (`q > 0`): crest suspension's test. A whole
 /// exponent up to 64 goes by multiplications (pow is costly, and asked for on every moved grain
 /// above the mean level), with `q^n` itself only where `u` falls within 1e-12 of the product,
-/// further than the products can stray from `q^n` (at most about 2 log2(n) roundings of
-/// 2^-53, the product being a normal number): the outcome of comparing with `q^n` (`powf`),
-/// and the product `q q` itself for `n = 2`.
+/// far further than the products can stray from `q^n` (each squaring doubles the relative
+/// error, so at most about `n - 1` roundings of 2^-53, below 7e-15 for `n <= 64`, the product
+/// being a normal number; `below_power_compares_with_pow` pins the margin): the outcome of
+/// comparing with `q^n` (`powf`), and the product `q q` itself for `n = 2`.
 #[inline]
 pub(crate) fn below_power(u: f64, q: f64, n: f64) -> bool {
     if n == 2.0 {
@@ -729,6 +730,14 @@ mod tests {
                 _ => pow * (1.0 + rng.random_range(-4.0..4.0) * f64::EPSILON),
             };
             let want = if n == 2.0 { u < q * q } else { u < pow };
+            // the products stay well inside the band where pow decides
+            let near = q.powi(n as i32);
+            if n.fract() == 0.0 && n <= 64.0 && near.is_normal() {
+                assert!(
+                    (near / pow - 1.0).abs() < 1e-13,
+                    "q {q} n {n}: {near} {pow}"
+                );
+            }
             assert_eq!(below_power(u, q, n), want, "u {u} q {q} n {n}");
             agree[usize::from(want)] += 1;
         }

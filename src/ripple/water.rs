@@ -64,8 +64,9 @@ pub struct Flow {
     /// Offsets (dx, dy) of the points 1..=MAX_REACH bins upstream.
     pub upstream: Vec<(i32, i32)>,
     /// Whether the flow runs along the rows (the point `k` bins upstream at `(-k, 0)` when
-    /// `Some(true)`, at `(k, 0)` when `Some(false)`, for every `k`): 2-D sections and the
-    /// current-aligned frame, whose upstream look-up then scans a row
+    /// `Some(true)`, at `(k, 0)` when `Some(false)`, for every `k`): a flow at exactly 0 or
+    /// 180 deg on the lattice (2-D sections; in 3-D a current along the x axis, as in the
+    /// flow frame, alone or with waves along it), whose upstream look-up then scans a row
     /// ([`WaterVolume::speed_at_level`]); `None` for any other direction. Set by
     /// [`Flow::at`] from `upstream`: a flow whose offsets are changed by hand sets it to `None`
     /// (always correct, by offsets) or to what the new offsets are.
@@ -174,14 +175,12 @@ fn wrapped(x: usize, y: usize, o: (i32, i32), nxi: i32, nyi: i32, nx: usize) -> 
     yy as usize * nx + xx as usize
 }
 
-/// `i mod n` by subtraction, without a division: `i` is at most a few times `n` here (the
-/// look-up reaches at most once around the torus, `nx + ny` points).
+/// `i mod n` for `i < 2 n`, without a division (the row scan looks at most once around its
+/// row).
 #[inline(always)]
-fn wrap(mut i: usize, n: usize) -> usize {
-    while i >= n {
-        i -= n;
-    }
-    i
+fn wrap(i: usize, n: usize) -> usize {
+    debug_assert!(i < 2 * n);
+    if i >= n { i - n } else { i }
 }
 
 /// The index of the last element of `seg` above `base`.
@@ -200,16 +199,16 @@ fn first_above(seg: &[u16], base: u16) -> Option<usize> {
 #[derive(Clone, Copy, Debug)]
 pub struct WaterVolume {
     /// Slice thickness, automata.
-    pub slice_layers: usize,
+    pub(crate) slice_layers: usize,
     /// Zero-speed length per slice of obstruction, bins.
-    pub shadow_length: usize,
+    pub(crate) shadow_length: usize,
     /// Recovery length per slice of obstruction, bins (the run's `drag_delay`).
-    pub recovery_length: usize,
+    pub(crate) recovery_length: usize,
     /// Flow separation (the run's `separation_angle`), `tan(angle) bin / layer_thickness`: an
     /// obstruction shelters only where the bed drops behind it by at least this many automata
     /// per bin of the step to the next point downstream (in whole automata: [`Self::separation_drop`]);
     /// 0: every obstruction shelters.
-    pub separation_slope: f64,
+    pub(crate) separation_slope: f64,
     /// `slice_layers`, strength-reduced: the look-up divides by it for every obstruction.
     slices: StrengthReducedU32,
     /// [`Self::separation_drop`] over one bin, the step between the points of a row.
@@ -232,9 +231,12 @@ impl WaterVolume {
         )
     }
 
-    /// The rules from their values: `slice_layers` (automata, at least 1), `shadow_length`
-    /// and `recovery_length` (bins per slice) and `separation_slope` (automata per bin, 0 for
-    /// none), as the fields document them.
+    /// The rules from their values: `slice_layers`, the slice thickness (automata, at least
+    /// 1); `shadow_length`, the zero-speed length per slice of obstruction (bins);
+    /// `recovery_length`, the recovery length per slice (bins, the run's `drag_delay`);
+    /// `separation_slope`, the flow separation's drop (automata per bin, 0: every obstruction
+    /// shelters), as the fields document them. The rules are fixed once built (the look-up
+    /// keeps values worked out from them).
     pub fn with(
         slice_layers: usize,
         shadow_length: usize,
@@ -255,6 +257,11 @@ impl WaterVolume {
         };
         w.axial_drop = w.separation_drop(1.0);
         w
+    }
+
+    /// The slice thickness, automata.
+    pub fn slice_layers(&self) -> usize {
+        self.slice_layers
     }
 
     /// `ceil(a / slice_layers)`: the slices an obstruction `a` automata above a slice's level
@@ -334,7 +341,10 @@ impl WaterVolume {
             .min(nx + ny)
             .min(flow.vortex_reach.unwrap_or(usize::MAX));
         if let Some(forward) = flow.along_row {
-            return self.speed_along_row(&heights[y * nx..(y + 1) * nx], x, j0 * t, reach, forward);
+            // along a row, once around it: further on the same columns come again, each
+            // farther off, so sheltering less (a ramp only grows with the distance)
+            let row = &heights[y * nx..(y + 1) * nx];
+            return self.speed_along_row(row, x, j0 * t, reach.min(nx), forward);
         }
         let (nxi, nyi) = (nx as i32, ny as i32);
         let (c, sn) = (flow.angle.cos(), flow.angle.sin());
@@ -379,7 +389,8 @@ impl WaterVolume {
     }
 
     /// [`Self::speed_at_level`] where the flow runs along the row (`forward`: towards +x):
-    /// the same look-up over the `reach` points upstream of column `x` of `row`, for the
+    /// the same look-up over the `reach` (at most the row's length) points upstream of column
+    /// `x` of `row`, for the
     /// slice at level `base` automata, with the stretches of the row that nothing rises out
     /// of skipped a chunk at a time.
     fn speed_along_row(
@@ -394,8 +405,9 @@ impl WaterVolume {
         let Ok(base16) = u16::try_from(base) else {
             return 1.0; // nothing rises above the slice
         };
-        // every step to the next point downstream is one bin long (the drop worked out at
-        // the first obstruction: most look-ups meet none)
+        // every step to the next point downstream is one bin long: the separation drop over
+        // one bin, worked out with the rules
+        debug_assert!(reach <= nx);
         let drop = (self.separation_slope > 0.0).then_some(self.axial_drop);
         let mut s: f64 = 1.0;
         let mut k = 0;
@@ -403,7 +415,7 @@ impl WaterVolume {
             // the point k + 1 bins upstream, and the stretch of the row from it that runs
             // upstream without wrapping
             let (p, hit) = if forward {
-                let p = wrap(x + nx - 1 - wrap(k, nx), nx);
+                let p = wrap(x + nx - 1 - k, nx);
                 let run = (reach - k).min(p + 1);
                 match last_above(&row[p + 1 - run..=p], base16) {
                     None => {
@@ -413,7 +425,7 @@ impl WaterVolume {
                     Some(i) => (p + 1 - run + i, p - (p + 1 - run + i)),
                 }
             } else {
-                let p = wrap(x + 1 + wrap(k, nx), nx);
+                let p = wrap(x + 1 + k, nx);
                 let run = (reach - k).min(nx - p);
                 match first_above(&row[p..p + run], base16) {
                     None => {
@@ -428,9 +440,9 @@ impl WaterVolume {
             if let Some(drop) = drop {
                 // the next point downstream (k = 0: the bed's own column)
                 let on = if forward {
-                    (p + 1) % nx
+                    wrap(p + 1, nx)
                 } else {
-                    (p + nx - 1) % nx
+                    wrap(p + nx - 1, nx)
                 };
                 if h < row[on] as usize + drop {
                     k += 1;
@@ -500,7 +512,8 @@ mod tests {
                 assert_eq!(w.slices_over(a), a.div_ceil(t), "{a} / {t}");
             }
         }
-        assert_eq!(wrap(7, 3), 1);
+        assert_eq!(wrap(4, 3), 1);
+        assert_eq!(wrap(3, 3), 0);
         assert_eq!(wrap(2, 3), 2);
     }
 
@@ -612,7 +625,9 @@ mod tests {
 
     /// The row scan of a flow along the rows ([`Flow::along_row`]) gives what the look-up by
     /// offsets gives, both ways along the row, wrapping, with and without separation, at the
-    /// bed and above it, and within a vortex's reach.
+    /// bed, above it and above every height, on any row of a field (a field many times longer
+    /// across than along the flow: the look-up by offsets goes round the row many times),
+    /// with heights near the most a column holds, and within a vortex's reach.
     #[test]
     fn the_row_scan_agrees_with_the_look_up_by_offsets() {
         use rand::RngExt;
@@ -632,11 +647,17 @@ mod tests {
                 ((case / 12) % 3) as f64 * 0.7,
             );
             let nx = [7, 40, 150][case % 3];
-            // a low bed with a few crests
-            let mut h: Vec<u16> = (0..nx).map(|_| rng.random_range(100..104)).collect();
-            for _ in 0..rng.random_range(0..5) {
-                let at = rng.random_range(0..nx);
-                h[at] = rng.random_range(104..180);
+            // rows of a field (3-D: the scan reads row y), some many times longer than wide
+            let ny = [1, 3, 25][(case / 3) % 3];
+            let y = rng.random_range(0..ny);
+            // a low bed with a few crests, some near the highest height a column holds
+            let floor = if case % 7 == 0 { 65_400 } else { 100 };
+            let mut h: Vec<u16> = (0..nx * ny)
+                .map(|_| rng.random_range(floor..floor + 4))
+                .collect();
+            for _ in 0..rng.random_range(0..5) * ny {
+                let at = rng.random_range(0..nx * ny);
+                h[at] = rng.random_range(floor + 4..floor + 80);
             }
             let hb = *h.iter().max().unwrap() as usize + rng.random_range(0..30);
             for flow in [&forward, &backward] {
@@ -648,10 +669,11 @@ mod tests {
                     (flow.vortex_reach, by_offsets.vortex_reach) = (r, r);
                 }
                 for x in 0..nx {
-                    let level = h[x] as usize + [0, 1, 7][x % 3];
-                    let want = w.speed_at_level(&h, nx, 1, x, 0, level, hb, &by_offsets);
-                    let got = w.speed_at_level(&h, nx, 1, x, 0, level, hb, &flow);
-                    assert_eq!(got, want, "{w:?} nx {nx} x {x} level {level}");
+                    // at the bed, above it, and above every height (65,536 and more)
+                    let level = h[y * nx + x] as usize + [0, 1, 7, 200][x % 4];
+                    let want = w.speed_at_level(&h, nx, ny, x, y, level, hb, &by_offsets);
+                    let got = w.speed_at_level(&h, nx, ny, x, y, level, hb, &flow);
+                    assert_eq!(got, want, "{w:?} {nx} x {ny} row {y} x {x} level {level}");
                     compared[if got == 0.0 {
                         0
                     } else if got < 1.0 {
