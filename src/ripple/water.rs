@@ -390,9 +390,9 @@ impl WaterVolume {
 
     /// [`Self::speed_at_level`] where the flow runs along the row (`forward`: towards +x):
     /// the same look-up over the `reach` (at most the row's length) points upstream of column
-    /// `x` of `row`, for the
-    /// slice at level `base` automata, with the stretches of the row that nothing rises out
-    /// of skipped a chunk at a time.
+    /// `x` of `row`, for the slice at level `base` automata, each stretch of the row up to the
+    /// next column that rises above the slice passed in one search ([`last_above`],
+    /// [`first_above`]).
     fn speed_along_row(
         &self,
         row: &[u16],
