@@ -88,7 +88,7 @@ fn parse() -> Cli {
     }
     let matches = command
         .clone()
-        .try_get_matches()
+        .try_get_matches_from(cmd::conv::negative_words_joined(std::env::args_os()))
         .unwrap_or_else(|e| cmd::conv::plain_parse_error(&mut command, e).exit());
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some((name, sub)) = matches.subcommand() {
@@ -109,6 +109,10 @@ fn main() -> ExitCode {
     // server writes no output of its own).
     if !matches!(cli.cmd, Cmd::Serve(_)) {
         cellsurf::engine::io::hold_outputs();
+    }
+    // A bad input's error is stderr's first line: warnings wait until the run begins.
+    if !matches!(cli.cmd, Cmd::Serve(_) | Cmd::Figures(_)) {
+        cmd::conv::hold_notes();
     }
     let result = match cli.cmd {
         Cmd::Flame(a) => grow(SceneKind::Flame, a),

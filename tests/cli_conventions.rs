@@ -927,3 +927,163 @@ fn an_old_spelling_with_the_flag_that_replaced_it_is_refused_naming_both() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A refused run says its error on stderr's first line, the warnings about its inputs after
+/// it; values out of range are refused by their flag (a dune height that would overflow, a
+/// snapshot past a typed `--steps`, `-inf` given apart from its option, a wind field's default
+/// radius), and a value the run changes is warned of even with `--quiet`.
+#[test]
+fn the_error_comes_first_and_no_value_is_changed_silently() {
+    let stderr = |args: &[&str]| {
+        let o = cellsurf(args);
+        let e = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(!e.contains("panicked"), "{args:?}: {e}");
+        (o.status.code(), e)
+    };
+    let generate = [
+        "tile",
+        "--generate",
+        "--size",
+        "16x8",
+        "--layers",
+        "10",
+        "--steps",
+        "10",
+        "--mosaic",
+        "2x2",
+    ];
+    let with = |extra: &[&'static str]| -> Vec<&'static str> {
+        generate.iter().chain(extra).copied().collect()
+    };
+    let ripple = [
+        "ripple", "--recipe", "paper", "--size", "16x8", "--layers", "10", "--steps", "10",
+    ];
+    let refused: Vec<(Vec<&str>, &str)> = vec![
+        (
+            ripple
+                .iter()
+                .chain(&["--snapshots", "20"])
+                .copied()
+                .collect(),
+            "error: --snapshots = 20 is out of range",
+        ),
+        (
+            with(&["--blend", "100"]),
+            "error: --blend = 100 is out of range",
+        ),
+        (
+            with(&["--dunes", "--dune-rms", "1e200"]),
+            "error: --dune-rms = 1e200 is out of range: expected 0 to 1000 m",
+        ),
+        (
+            with(&["--snapshots", "50"]),
+            "error: --snapshots = 50 is out of range: expected steps in [0, --steps = 10]",
+        ),
+        (
+            vec!["grow", "--size", "16x8", "--steps", "10", "--n", "-inf"],
+            "error: --n = -inf is out of range",
+        ),
+        (
+            vec![
+                "cursor",
+                "--size",
+                "64",
+                "--wind-field",
+                "converging",
+                "--wind-spacing",
+                "4",
+            ],
+            "error: in --wind-field converging: --wind-radius = 25 (the default) is out of range",
+        ),
+        (
+            vec!["converge", "dunes", "--seeds", "5", "--part", "9/2"],
+            "error: --part = 9/2 is out of range",
+        ),
+    ];
+    for (args, first) in refused {
+        let (code, e) = stderr(&args);
+        assert_ne!(code, Some(0), "{args:?}: {e}");
+        assert!(e.starts_with(first), "{args:?}: {e}");
+    }
+    // the warnings about the inputs still come, after the error
+    let (_, e) = stderr(
+        &ripple
+            .iter()
+            .chain(&["--snapshots", "20"])
+            .copied()
+            .collect::<Vec<_>>(),
+    );
+    assert!(e.contains("\nwarning: the domain is 0.080 m long"), "{e}");
+    // changed values are warned of with --quiet
+    let dir = tmp_in("conventions-quiet-warnings", "");
+    let gif = dir.join("a.gif");
+    let gif = gif.to_str().unwrap();
+    let quiet_cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "dunes",
+                "--size",
+                "16",
+                "--steps",
+                "10",
+                "--out",
+                gif,
+                "--gif-frames",
+                "2000",
+                "--quiet",
+            ],
+            "warning: --gif-frames = 2000 is more than the run's 10 iterations: the GIF has one frame an iteration, 11 in all",
+        ),
+        (
+            vec![
+                "ripple",
+                "--recipe",
+                "paper",
+                "--size",
+                "16x8",
+                "--layers",
+                "10",
+                "--duration",
+                "1e-300s",
+                "--quiet",
+            ],
+            "warning: --duration = 1e-300 s is shorter than one step",
+        ),
+    ];
+    for (args, warned) in quiet_cases {
+        let (code, e) = stderr(&args);
+        assert_eq!(code, Some(0), "{args:?}: {e}");
+        assert!(e.contains(warned), "{args:?}: {e}");
+        assert!(
+            !e.contains("note:"),
+            "{args:?}: --quiet keeps the notes: {e}"
+        );
+    }
+}
+
+/// A sea quantile that ties among equal heights keep from being met is warned of (a short
+/// walk leaves most cells at 0 visits: 30 % cannot be flooded), and one met is not.
+#[test]
+fn a_sea_quantile_that_cannot_be_met_is_warned_of() {
+    let run = |args: &[&str]| {
+        let o = cellsurf(args);
+        let e = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{e}");
+        e
+    };
+    let e = run(&[
+        "cursor",
+        "--size",
+        "16",
+        "--steps",
+        "100",
+        "--sea-quantile",
+        "0.3",
+    ]);
+    assert!(
+        e.contains("warning: --sea-quantile = 0.3 floods 0.0 % of the cells, not 30.0 %"),
+        "{e}"
+    );
+    let e = run(&["cursor", "--size", "64", "--sea-quantile", "0.3"]);
+    assert!(!e.contains("floods"), "{e}");
+}

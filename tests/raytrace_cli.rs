@@ -1372,3 +1372,32 @@ fn scenario_paths_are_read_from_the_scenario_folder() {
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(e.contains("runs/t.csv"), "{e}");
 }
+
+/// A scenario's option for another sound-speed profile (`profile_table` with the isovelocity
+/// profile) is kept but said to have no effect, as the command line refuses it.
+#[test]
+fn a_scenarios_option_for_another_profile_is_warned_of() {
+    let dir = common::tmp_in("raytrace-other-profile", "");
+    let f = dir.join("s.toml");
+    std::fs::write(
+        &f,
+        "model = \"raytrace\"\nprofile = \"isovelocity\"\nprofile_table = \"nonexist.csv\"\n",
+    )
+    .unwrap();
+    let o = common::cellsurf(&[
+        "raytrace",
+        "--scenario",
+        f.to_str().unwrap(),
+        "--length",
+        "2",
+        "--rays",
+        "20",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("warning: the scenario's profile_table =")
+            && e.contains("nonexist.csv has no effect: it applies to the table profile only"),
+        "{e}"
+    );
+}

@@ -907,8 +907,9 @@ fn wave_vortex_flags_and_bad_input() {
     assert_eq!(from_file(&[]).0, None);
 }
 
-/// A domain shorter than 4 wavelengths of the predicted ripple along the flow gets a warning
-/// naming both lengths; a long enough one gets none.
+/// A domain shorter than 4 wavelengths along the flow of the ripple the run builds (the
+/// predictor's with the paper's rules, the recipe's own 66 travels with the recipe for mature
+/// current ripples) gets a warning naming both lengths; a long enough one gets none.
 #[test]
 fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
     let run = |size: &str, angle: &str| {
@@ -939,11 +940,27 @@ fn domain_shorter_than_four_predicted_wavelengths_is_warned() {
         let o = run("128x64", angle);
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success(), "{err}");
-        assert!(
-            !err.contains("wavelengths of the predicted"),
-            "{angle}: {err}"
-        );
+        assert!(!err.contains("less than 4 wavelengths"), "{angle}: {err}");
     }
+    // the recipe's own ripples: 66 travels, 0.163 m at the default (0.654 m for 4), on 128 bins
+    // of 1.86 mm; at 0.35 m/s its 1024 bins of 0.551 mm (0.564 m) hold 11 of its 5 cm ripples
+    // though fewer than 4 of the predictor's
+    let recipe = |args: &[&str]| {
+        let mut all = vec!["ripple", "--steps", "1", "--json"];
+        all.extend_from_slice(args);
+        let o = cellsurf(&all);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let err = recipe(&["--size", "128x1"]);
+    assert!(
+        err.contains("0.238 m long")
+            && err.contains("recipe mature-current's, 66 flat-bed travels: 4 x 0.163 m = 0.654 m"),
+        "{err}"
+    );
+    let err = recipe(&["--current-speed", "0.35"]);
+    assert!(!err.contains("less than 4 wavelengths"), "{err}");
 }
 
 /// A bin longer than half the lee face of the predicted ripple (`H / (2 tan alpha)`) gets a
@@ -1753,14 +1770,16 @@ fn help_gives_each_recipes_own_defaults() {
 /// says.
 #[test]
 fn the_recipe_warns_where_the_current_changes_its_travel() {
-    let warned = "warning: the recipe mature-current was measured against Soulsby & Whitehouse";
+    let warned = "warning: the recipe mature-current's ripples come to about 66 flat-bed travels";
+    // 0.2 mm sand: 66 nominal travels are 0.33 / 2.19 times Soulsby & Whitehouse's 0.146 m
     let (slow, e) = printed_scenario(&["--current-speed", "0.35"]);
     assert!(
-        e.contains(warned) && e.contains("--current-speed = 0.35 m/s is 0.30 times"),
+        e.contains(warned)
+            && e.contains("at --current-speed = 0.35 m/s, 0.33 times the 0.1459 m of Soulsby"),
         "{e}"
     );
     let (fast, e) = printed_scenario(&["--current-speed", "0.65"]);
-    assert!(e.contains(warned) && e.contains("is 1.95 times"), "{e}");
+    assert!(e.contains(warned) && e.contains("2.19 times"), "{e}");
     let bin = |s: &str| -> f64 {
         let line = s.lines().find(|l| l.starts_with("bin_size = ")).unwrap();
         line["bin_size = ".len()..].parse().unwrap()
@@ -1769,10 +1788,22 @@ fn the_recipe_warns_where_the_current_changes_its_travel() {
         bin(&slow) < 0.00186 && bin(&fast) > 0.00186,
         "{slow}\n{fast}"
     );
-    let (_, e) = printed_scenario(&["--current-speed", "0.45"]);
-    assert!(e.contains(warned) && e.contains("is 0.74 times"), "{e}");
+    // just outside the 20 % band either side of the default's 1.12
+    let (_, e) = printed_scenario(&["--current-speed", "0.42"]);
+    assert!(e.contains(warned) && e.contains("0.67 times"), "{e}");
+    let (_, e) = printed_scenario(&["--current-speed", "0.52"]);
+    assert!(e.contains(warned) && e.contains("1.25 times"), "{e}");
+    // at a fixed current the travel stops growing with the grain: coarse sand's ripples short
+    let (_, e) = printed_scenario(&["--d50", "0.8"]);
+    assert!(
+        e.contains(warned) && e.contains("0.40 times the 0.4230 m") && e.contains("0.8 mm"),
+        "{e}"
+    );
     for quiet in [
         vec!["--current-speed", "0.47"],
+        vec!["--current-speed", "0.5"],
+        vec!["--d50", "0.1"],
+        vec!["--d50", "0.4"],
         vec!["--current-speed", "0.35", "--recipe", "paper"],
         vec![
             "--recipe",

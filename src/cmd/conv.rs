@@ -122,6 +122,33 @@ pub fn given_flags(flags: &[(&str, &str, bool)]) -> Vec<String> {
         .collect()
 }
 
+/// The command line with a negative infinity or NaN given as an option's value joined to it
+/// (`--n -inf` read as `--n=-inf`): the parser takes `-inf` for short flags otherwise, and
+/// refuses it without naming the option, where a negative number is the option's to refuse.
+pub fn negative_words_joined(
+    args: impl IntoIterator<Item = std::ffi::OsString>,
+) -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::new();
+    for w in args {
+        let word = w.to_string_lossy().to_ascii_lowercase();
+        let special = ["-inf", "-infinity", "-nan"].contains(&word.as_str());
+        if special
+            && let Some(prev) = out.last_mut()
+            && let Some(p) = prev.to_str()
+            && p.starts_with("--")
+            && p.len() > 2
+            && !p.contains('=')
+        {
+            let mut joined = std::ffi::OsString::from(format!("{p}="));
+            joined.push(&w);
+            *prev = joined;
+            continue;
+        }
+        out.push(w);
+    }
+    out
+}
+
 /// Sets `--quiet` for [`wrote`] and [`note`].
 pub fn set_quiet(quiet: bool) {
     QUIET.store(quiet, Ordering::Relaxed);
@@ -178,11 +205,52 @@ pub fn interrupted() -> ! {
     std::process::exit(130);
 }
 
-/// A line of chatter on stderr (not with `--quiet`).
-pub fn note(msg: impl std::fmt::Display) {
-    if !quiet() {
+/// The notes held back until the run's inputs are all checked ([`hold_notes`], [`begin`]):
+/// `Some` while they are held.
+static HELD: Mutex<Option<Vec<String>>> = Mutex::new(None);
+
+/// Holds the notes and warnings of [`note`] back until [`begin`] (or [`finish`]), so that a
+/// run refused for a bad input says its error on the first line of stderr, before any warning
+/// about the inputs checked before it.
+pub fn hold_notes() {
+    if let Ok(mut h) = HELD.lock() {
+        *h = Some(Vec::new());
+    }
+}
+
+/// The run's inputs are checked and its work begins: the notes held so far are said (before
+/// any progress bar), and later ones at once.
+pub fn begin() {
+    let held = HELD.lock().ok().and_then(|mut h| h.take());
+    for msg in held.into_iter().flatten() {
         err_line(msg);
     }
+}
+
+/// A line of chatter on stderr (not with `--quiet`); held back until [`begin`] where
+/// [`hold_notes`] asked.
+pub fn note(msg: impl std::fmt::Display) {
+    if !quiet() {
+        say(msg.to_string());
+    }
+}
+
+/// A warning that the run changes a value it was given (a duration shorter than a step, more
+/// frames or rows than the run has): said whatever `--quiet` says, as nothing is changed
+/// silently; held back as [`note`] is.
+pub fn changed(msg: impl std::fmt::Display) {
+    say(msg.to_string());
+}
+
+/// A line on stderr now, or held until [`begin`].
+fn say(msg: String) {
+    if let Ok(mut h) = HELD.lock()
+        && let Some(held) = h.as_mut()
+    {
+        held.push(msg);
+        return;
+    }
+    err_line(msg);
 }
 
 /// A line on stderr, whatever `--quiet` says; a failed write (a reader that closed stderr,
@@ -482,6 +550,7 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
     let result = result.and_then(|()| Ok(cellsurf::engine::io::publish_held()?));
     match result {
         Ok(()) => {
+            begin();
             if !quiet() {
                 for f in written() {
                     err_line(format_args!("wrote {f}"));
@@ -492,6 +561,8 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
         Err(e) => {
             let dropped = cellsurf::engine::io::discard_held();
             err_line(format_args!("error: {}", render_error(&e)));
+            // (the warnings about the inputs, after the error that ended the run)
+            begin();
             if dropped > 0 {
                 err_line("(no output was written: the run failed)");
             }
@@ -1108,7 +1179,7 @@ pub fn merge_scenario<A: Serialize + DeserializeOwned>(
             // parser's own message names Rust types).
             for (k, v) in &from_file {
                 if !fits::<A>(&defaults, k, v) {
-                    let expected = expected_by_option(k, v);
+                    let expected = expected_by_option(k, v, kind_that_fits::<A>(&defaults, k));
                     // (a value the option's parser holds out of range, `1e30` or a size of
                     // "0": the key's range, the value as written)
                     if let Some((_, range)) = expected.split_once("' is out of range: ") {
@@ -1218,9 +1289,36 @@ pub fn cli_text(v: &toml::Value) -> String {
     }
 }
 
+/// The kind of TOML value that key `k` of the scenario takes (`true or false`, `a number`, ...),
+/// found by trying one of each; `None` where none fits.
+fn kind_that_fits<A: DeserializeOwned>(defaults: &toml::Table, k: &str) -> Option<&'static str> {
+    use toml::Value as V;
+    let text = || V::String("x".into());
+    let candidates = [
+        (V::Boolean(true), "true or false"),
+        (V::Float(0.5), "a number (e.g. 0.5 or 1e-3), not in quotes"),
+        (V::Integer(1), "a whole number, not in quotes"),
+        (text(), "a string in quotes"),
+        (
+            V::Array(vec![text()]),
+            "a list of strings in brackets, e.g. [\"a\", \"b\"]",
+        ),
+        (
+            V::Array(vec![V::Float(0.5)]),
+            "a list of numbers in brackets, e.g. [1, 2]",
+        ),
+    ];
+    candidates
+        .into_iter()
+        .find(|(v, _)| fits::<A>(defaults, k, v))
+        .map(|(_, kind)| kind)
+}
+
 /// What the option `id` takes, said by its own parser of `v` written as on the command line
-/// (`'16.5' is not a whole number ...`), else the first line of its help.
-fn expected_by_option(id: &str, v: &toml::Value) -> String {
+/// (`'16.5' is not a whole number ...`), by its list of values (`one of calm, uniform, ...`),
+/// or by the `kind` of TOML value it takes where the command line would take `v` but the file
+/// holds it as another kind (`straight = 1`, `hop = "1/64"`), else the first line of its help.
+fn expected_by_option(id: &str, v: &toml::Value, kind: Option<&str>) -> String {
     use std::error::Error as _;
     let text = cli_text(v);
     let Some(inv) = INVOCATION.get() else {
@@ -1235,8 +1333,18 @@ fn expected_by_option(id: &str, v: &toml::Value) -> String {
             .and_then(|h| h.lines().next().map(str::to_string))
             .map_or_else(|| "see --help".into(), |h| format!("expected {h}"))
     };
+    let listed = || {
+        let names: Vec<String> = arg
+            .get_possible_values()
+            .iter()
+            .filter(|p| !p.is_hide_set())
+            .map(|p| p.get_name().to_string())
+            .collect();
+        (!names.is_empty()).then(|| format!("expected one of {}", names.join(", ")))
+    };
+    let by_kind = || kind.map(|k| format!("expected {k}"));
     let Some(long) = arg.get_long() else {
-        return help();
+        return listed().or_else(by_kind).unwrap_or_else(help);
     };
     // (the subcommand's own parser, on `--long=value` alone)
     let parsed = inv
@@ -1258,9 +1366,11 @@ fn expected_by_option(id: &str, v: &toml::Value) -> String {
                 "expected a number (e.g. 0.5 or 1e-3)".into()
             }
             Some(s) => s.to_string(),
-            None => help(),
+            None => listed().or_else(by_kind).unwrap_or_else(help),
         },
-        _ => help(),
+        // accepted as written on the command line: the file holds it as another kind
+        Ok(_) => by_kind().unwrap_or_else(help),
+        _ => listed().or_else(by_kind).unwrap_or_else(help),
     }
 }
 
@@ -1317,6 +1427,32 @@ fn flagged(msg: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    /// `-inf`, `-infinity` and `-nan` after a long option are joined to it; after anything
+    /// else, and every other word, are left as they are.
+    #[test]
+    fn negative_words_join_their_option() {
+        let words = |v: &[&str]| v.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
+        let joined = |v: &[&str]| negative_words_joined(words(v));
+        assert_eq!(
+            joined(&["cellsurf", "grow", "--n", "-inf", "--steps", "-NaN"]),
+            words(&["cellsurf", "grow", "--n=-inf", "--steps=-NaN"])
+        );
+        assert_eq!(
+            joined(&["x", "--a", "-Infinity"]),
+            words(&["x", "--a=-Infinity"])
+        );
+        for kept in [
+            &["x", "--a=1", "-inf"][..],
+            &["x", "--", "-inf"],
+            &["x", "-d", "-inf"],
+            &["x", "--a", "-1"],
+            &["x", "--a", "-infx"],
+        ] {
+            assert_eq!(joined(kept), words(kept), "{kept:?}");
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -218,9 +218,40 @@ fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
             }
         )
     })?;
-    s.validate()
-        .with_context(|| format!("in --wind-field {}", g.name()))?;
+    s.validate().map_err(|e| {
+        anyhow::anyhow!("in --wind-field {}: {}", g.name(), flagged(&e.to_string()))
+    })?;
     Ok(s)
+}
+
+/// The field's error `wind NAME = V is out of range: ...` said with the flag that sets it,
+/// `--wind-NAME = V`, and `(the default)` after a value not typed.
+fn flagged(msg: &str) -> String {
+    const NAMES: [&str; 9] = [
+        "angle",
+        "arms",
+        "radial",
+        "radius",
+        "scale",
+        "spacing",
+        "speed",
+        "spread",
+        "wavelength",
+    ];
+    for name in NAMES {
+        if let Some(rest) = msg.strip_prefix(&format!("wind {name} = ")) {
+            let default = if conv::typed(&format!("wind_{name}")) {
+                ""
+            } else {
+                " (the default)"
+            };
+            return match rest.split_once(" is ") {
+                Some((v, tail)) => format!("--wind-{name} = {v}{default} is {tail}"),
+                None => format!("--wind-{name} = {rest}"),
+            };
+        }
+    }
+    msg.to_string()
 }
 
 /// Where the wind came from, for the summary.
@@ -334,6 +365,7 @@ pub fn run(a: Args) -> Result<()> {
     let setup_s = setup.elapsed().as_secs_f64();
 
     let silent = a.quiet || a.json;
+    conv::begin();
     let bar = ProgressBar::with_draw_target(Some(a.steps), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
@@ -379,6 +411,18 @@ pub fn run(a: Args) -> Result<()> {
         .then(|| stats::mean_step(&tr.cell_probabilities(0)));
     let level = sea.resolve(heights);
     let flooded = display::flooded_fraction(heights, level);
+    // (cells of one height are all flooded or none: ties can keep the fraction from the
+    // quantile; said beyond a percentage point)
+    if let SeaLevel::Quantile(q) = sea
+        && (flooded - q).abs() > (0.5 / heights.len() as f64).max(0.01)
+    {
+        conv::changed(format_args!(
+            "warning: {} = {q} floods {:.1} % of the cells, not {:.1} %: cells of the same height are flooded together, and no sea level floods that fraction here",
+            conv::typed_flag("sea_quantile").unwrap_or_else(|| "--sea-quantile".into()),
+            100.0 * flooded,
+            100.0 * q
+        ));
+    }
     let max_h = heights.iter().copied().max().unwrap_or(0);
     let min_h = heights.iter().copied().min().unwrap_or(0);
     let mean_h = total as f64 / heights.len() as f64;

@@ -312,11 +312,22 @@ pub fn run(a: Args) -> Result<()> {
     }
     let mut outs = Outputs::new(&a.out, "dunes", &[Format::Png, Format::Gif])?;
     outs.add_legacy(Format::Gif, a.gif.as_ref())?;
+    // (about 50 bytes a cell at its peak, measured with a PNG at --size 2048: the heights,
+    // fluxes and index lists, the analysis and the picture; 64 with room to spare)
+    conv::check_memory(
+        &format!(
+            "{} {}",
+            conv::typed_flag("size").unwrap_or_else(|| "--size".into()),
+            cfg.grid
+        ),
+        64.0 * (cfg.grid * cfg.grid) as f64,
+    )?;
     if let Some(w) = outs.unused_option("gif_frames", Format::Gif, "its frames") {
         conv::note(format_args!("warning: {w}"));
     }
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
     let silent = a.quiet || a.json;
+    conv::begin();
     let bar =
         ProgressBar::with_draw_target(Some(cfg.iterations.max(1)), ProgressDrawTarget::hidden());
     bar.set_style(
@@ -354,6 +365,18 @@ pub fn run(a: Args) -> Result<()> {
     // The initial state, then --gif-frames states evenly spaced up to the last iteration (as
     // a growth run's GIF): iteration `iterations i / frames` for i = 1..=frames, once each.
     let frames = a.gif_frames as u64;
+    // (a typed frame count the run cannot give; the default gives what it can)
+    if (conv::typed("gif_frames") || conv::set_by_scenario("gif_frames", &frames.to_string()))
+        && let Some(flag) = conv::typed_flag("gif_frames")
+        && rec.is_some()
+        && frames > cfg.iterations
+    {
+        conv::changed(format_args!(
+            "warning: {flag} = {frames} is more than the run's {} iterations: the GIF has one frame an iteration, {} in all",
+            cfg.iterations,
+            cfg.iterations + 1
+        ));
+    }
     let mut next_frame = 1u64;
     let frame_at = |i: u64| (cfg.iterations as u128 * i as u128 / frames as u128) as u64;
     if let Some(r) = rec.as_mut() {

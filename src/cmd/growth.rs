@@ -191,6 +191,7 @@ fn study_records(
 ) -> Result<Vec<(String, toml::Value)>> {
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create --out-dir {}", out_dir.display()))?;
+    conv::begin();
     cellsurf::engine::study::run_part_reporting(study, part, &run_progress(name))
         .map_err(|e| anyhow::anyhow!("{name} study: {e}"))
 }
@@ -608,6 +609,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
             p.display()
         );
     }
+    conv::begin();
     let bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")
@@ -634,7 +636,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     let fewer = |what: &str, asked: usize, file: &str, unit: &str| {
         // (a default the user did not ask for is not warned of)
         if !by_events && asked as u64 > cfg.steps && conv::typed(what) {
-            conv::note(format_args!(
+            conv::changed(format_args!(
                 "warning: {} = {asked} is more than the run's {} timesteps: the {file} has one \
                  {unit} a timestep, {} in all",
                 conv::typed_flag(what).unwrap_or_else(|| format!("--{}", what.replace('_', "-"))),
@@ -854,7 +856,10 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
                 .collect();
                 cellsurf::figures::draw_study(study, &records, &a.out_dir)?
             }
-            None => cellsurf::figures::make(f, &a.out_dir, true)?,
+            None => {
+                conv::begin();
+                cellsurf::figures::make(f, &a.out_dir, true)?
+            }
         };
         for p in made {
             conv::wrote(&p);

@@ -483,7 +483,29 @@ fn check_profile_options(a: &Args) -> Result<()> {
     } else {
         format!("--profile {} (default)", name(a.profile))
     };
+    let path = |p: &Option<PathBuf>| p.as_ref().map(|p| p.display().to_string());
+    let value = |id: &str| -> Option<String> {
+        match id {
+            "c0" => Some(a.c0.to_string()),
+            "gradient" => Some(a.gradient.to_string()),
+            "salinity" => Some(a.salinity.to_string()),
+            "profile_table" => path(&a.profile_table),
+            "temperature_table" => path(&a.temperature_table),
+            "salinity_table" => path(&a.salinity_table),
+            _ => None,
+        }
+    };
     for (id, kinds, names) in applies {
+        // (a scenario's value for another profile is kept in the file, and said)
+        if !conv::typed(id)
+            && !kinds.contains(&a.profile)
+            && let Some(v) = value(id).filter(|v| conv::set_by_scenario(id, v))
+        {
+            conv::note(format_args!(
+                "warning: the scenario's {id} = {v} has no effect: it applies to the {names} profile{} only, not {profile}",
+                if kinds.len() > 1 { "s" } else { "" },
+            ));
+        }
         if conv::typed(id) && !kinds.contains(&a.profile) {
             bail!(
                 "{} applies to the {names} profile{} only, not {profile}: leave it out or give --profile {}",
@@ -646,6 +668,7 @@ pub fn run(a: Args) -> Result<()> {
     let (fl, kind, chunks_read) = floor(&a)?;
     let tracer = Tracer::new(&prof, &fl).map_err(|e| in_table(&a, e))?;
     check_source(&a, &fl)?;
+    conv::begin();
     let (x0, x1) = fl.x_range();
     let max_path = a.max_path.unwrap_or(3.0 * (x1 - x0 + fl.max_depth()));
     // The tracer's options: with --straight only --rays-csv traces rays (the fan's --rays,

@@ -20,7 +20,9 @@ use cellsurf::ripple::clock::StepClock;
 use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
-use cellsurf::ripple::recipe::{DEFAULT_CAP_S, MEASURED_SPEED, Recipe};
+use cellsurf::ripple::recipe::{
+    DEFAULT_CAP_S, Recipe, TRAVELS_PER_WAVELENGTH, expected_wavelength,
+};
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
 use cellsurf::ripple::{
@@ -848,17 +850,24 @@ fn params_from(
         ));
         (p.bin_size, p.layer_thickness, p.layers) = (b, t, layers);
     }
-    // the recipe's ripples follow the travel, nature's current ripples keep their size
+    // the recipe's ripples follow the travel; nature's current ripples follow the grain alone
     if recipe == Some(Recipe::MatureCurrent) && !p.waves_dominate() && p.validate().is_ok() {
-        let travel = |u: f64| cellsurf::ripple::clock::median_travel(&p, u);
-        let ratio = travel(p.current_speed) / travel(MEASURED_SPEED);
-        if ratio.is_finite() && ratio > 0.0 && !(0.8..=1.25).contains(&ratio) {
-            conv::note(format_args!(
-                "warning: the recipe {} was measured against Soulsby & Whitehouse (2005) at {MEASURED_SPEED} m/s; its ripples grow with the grains' flat-bed travel (about 70 travels long), which at --current-speed = {} m/s is {:.2} times that at {MEASURED_SPEED} m/s, where nature's equilibrium current ripples keep their size as the current changes (0.2 mm sand: 5.1 / 17.3 / 33.7 cm at 0.35 / 0.5 / 0.65 m/s against their 14.6 cm; docs/ripple.md, \"The current's speed\")",
-                Recipe::MatureCurrent,
-                p.current_speed,
-                ratio
-            ));
+        let sw = Prediction::of(p.d50, false, 0.0, 0.0);
+        if let Some(own) = expected_wavelength(&p) {
+            let ratio = own / sw.wavelength;
+            if ratio.is_finite() && !(0.8..=1.2).contains(&ratio) {
+                conv::note(format_args!(
+                    "warning: the recipe {}'s ripples come to about {TRAVELS_PER_WAVELENGTH} flat-bed travels of the median grain (59-70 measured): here {TRAVELS_PER_WAVELENGTH} x {} m = {} m at --current-speed = {} m/s, {:.2} times the {} m of {} for --d50 = {} mm, outside the 20 % it meets at 0.1-0.4 mm and 0.5 m/s; the travel grows with the current and, at a fixed current, stops growing with the grain above about 0.5 mm, where nature's equilibrium current ripples follow the grain alone (docs/ripple.md, \"The current's speed and the grain\")",
+                    Recipe::MatureCurrent,
+                    cellsurf::ripple::params::rounded(own / TRAVELS_PER_WAVELENGTH),
+                    cellsurf::ripple::params::rounded(own),
+                    p.current_speed,
+                    ratio,
+                    cellsurf::ripple::params::rounded(sw.wavelength),
+                    sw.source,
+                    p.d50
+                ));
+            }
         }
     }
     // (a bin or an avalanche angle out of its own range is named by its own check)
@@ -906,9 +915,11 @@ fn to_steps(secs: &Seconds, p: &mut RippleParams, clock: Option<&StepClock>) -> 
                 Err(e) => return Err(e.into()),
             };
             if d < 0.5 * c.step_s {
-                conv::note(format_args!(
-                    "note: {name} = {d} s is shorter than one step ({:.4} s): one step is run ({:.4} s)",
-                    c.step_s, c.step_s
+                conv::changed(format_args!(
+                    "warning: {name} = {} s is shorter than one step ({:.4} s): one step is run ({:.4} s)",
+                    cellsurf::ripple::params::shown(d),
+                    c.step_s,
+                    c.step_s
                 ));
             }
         }
@@ -1355,13 +1366,26 @@ pub fn run(a: Args) -> Result<()> {
         p.rows() as f64 * p.bin_size,
         p.lattice_flow_angle(),
     );
-    if reg.regime == Regime::Ripples && along < 4.0 * predicted.wavelength {
-        conv::note(format_args!(
-            "warning: the domain is {along:.3} m long along the flow ({} deg from east), less than 4 wavelengths of the predicted ripple (4 x {:.3} m = {:.3} m, {}): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
-            p.flow_angle(),
+    // the ripple the run will build: the recipe's own where it runs a current (its ripples
+    // follow the travel, not the predictor), the predictor's otherwise
+    let (expected, of_what) = match expected_wavelength(&p) {
+        Some(w) if recipe == Some(Recipe::MatureCurrent) && !p.waves_dominate() => (
+            w,
+            format!(
+                "the recipe {}'s, {TRAVELS_PER_WAVELENGTH} flat-bed travels",
+                Recipe::MatureCurrent
+            ),
+        ),
+        _ => (
             predicted.wavelength,
-            4.0 * predicted.wavelength,
-            predicted.source
+            format!("the predicted, {}", predicted.source),
+        ),
+    };
+    if reg.regime == Regime::Ripples && along < 4.0 * expected {
+        conv::note(format_args!(
+            "warning: the domain is {along:.3} m long along the flow ({} deg from east), less than 4 wavelengths of the ripple ({of_what}: 4 x {expected:.3} m = {:.3} m): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
+            p.flow_angle(),
+            4.0 * expected,
         ));
     }
     let resolving = largest_resolving_bin(predicted.height, p.avalanche_angle);
@@ -1434,6 +1458,7 @@ pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
     let mut r = Ripple::new(&p)?;
     let setup_s = start.elapsed().as_secs_f64();
+    conv::begin();
     let bar = ProgressBar::with_draw_target(Some(steps.max(1)), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {percent}% ETA {eta}")

@@ -68,8 +68,9 @@ pub struct Args {
     /// --generate: mean sand thickness, automata per column [default: the scenario's, else 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
-    /// --generate: steps of each run, raised to the largest --snapshots step (`1e4` accepted)
-    /// [default: the scenario's, else 10000].
+    /// --generate: steps of each run (`1e4` accepted); a --snapshots step past it is refused
+    /// [default: the scenario's, else 10000, raised to the largest --snapshots step, with a
+    /// warning].
     #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(params::STEPS))]
     steps: Option<u64>,
     /// --generate: fraction of automata triggered per step [default: the scenario's, else
@@ -108,7 +109,7 @@ pub struct Args {
     /// --dunes: Hurst exponent H in (0, 1) of the fBm relief (power spectrum K^-(2H+2)).
     #[arg(long, default_value_t = 0.6)]
     hurst: f64,
-    /// --dunes: rms dune height, m [default: the height that gives the dune field an rms slope
+    /// --dunes: rms dune height, m, 0 to 1000 [default: the height that gives the dune field an rms slope
     /// of 6 deg at its grid, so it scales with the extent (e.g. 47 mm on 20 x 20 m with the
     /// default grid, H 0.6); its largest slope is then about 20 deg, below the angle of repose, 32 deg].
     /// The slopes are measured and reported; steeper dunes than 32 deg get a warning.
@@ -270,8 +271,23 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         secs.duration = None;
     }
     super::ripple::scenario_steps(&secs, &mut p)?;
-    if let Some(s) = &a.snapshots {
-        p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
+    // a snapshot past the runs' steps: refused against a typed --steps (as `cellsurf ripple`
+    // does), else the runs go on to it, said
+    if let Some(last) = a.snapshots.as_ref().and_then(|s| s.iter().copied().max())
+        && last > p.steps
+    {
+        let snaps = conv::typed_flag("snapshots").unwrap_or_else(|| "--snapshots".into());
+        if let Some(flag) = conv::typed_flag("steps") {
+            bail!(
+                "{snaps} = {last} is out of range: expected steps in [0, {flag} = {}]",
+                p.steps
+            );
+        }
+        conv::changed(format_args!(
+            "warning: {snaps} = {last} is past the runs' {} steps (the scenario's or the default): each run goes on to step {last}; give --steps to set it",
+            p.steps
+        ));
+        p.steps = last;
     }
     // A --bin-size too short for the scenario's automata (tile has no --layer-thickness):
     // named by the flag that was typed, with the least bin that holds them.
@@ -921,6 +937,8 @@ pub fn run(a: Args) -> Result<()> {
     } else {
         None
     };
+    // (the tiles are read or made and every input is checked: the warnings about them now)
+    conv::begin();
     let src: &dyn RowSource = match &dunes {
         Some(d) => d,
         None => &mosaic,

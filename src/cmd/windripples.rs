@@ -162,6 +162,7 @@ pub fn run(a: Args) -> Result<()> {
         .context("cannot start the worker threads")?;
     let threads = pool.current_num_threads();
 
+    conv::begin();
     let bar = ProgressBar::with_draw_target(Some(params.steps), ProgressDrawTarget::hidden());
     bar.set_style(
         ProgressStyle::with_template("{spinner} {msg} [{bar:40}] {pos}/{len} steps ETA {eta}")

@@ -248,9 +248,10 @@ pub fn remove_live_temporaries_where(select: impl Fn(&Path) -> bool) {
     }
 }
 
-/// Checks, before a run, that `path` can be written as an output: its folder exists, and the
-/// path is either absent or a regular file. `option` names the command-line option in the
-/// error.
+/// Checks, before a run, that `path` can be written as an output: its folder exists and takes
+/// a new file (a probe file beside the output is made and removed: a read-only folder is
+/// refused before the run, not after it), and the path is either absent or a regular file.
+/// `option` names the command-line option in the error.
 pub fn check_output(option: &str, path: &Path) -> io::Result<()> {
     let fail = |why: &str| {
         Err(io::Error::new(
@@ -277,12 +278,28 @@ pub fn check_output(option: &str, path: &Path) -> io::Result<()> {
     }
     match fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => {
-            fail("is a symbolic link; give the file it points to")
+            return fail("is a symbolic link; give the file it points to");
         }
         Ok(m) if !m.is_file() => {
-            fail("exists and is not a regular file (a folder, device or FIFO)")
+            return fail("exists and is not a regular file (a folder, device or FIFO)");
         }
-        _ => Ok(()),
+        _ => {}
+    }
+    let mut probe = temp_path(path).into_os_string();
+    probe.push(".probe");
+    match fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(f) => {
+            drop(f);
+            let _ = fs::remove_file(&probe);
+            Ok(())
+        }
+        // (left by a run killed between the two calls: the folder takes files)
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => fail(&format!("its folder cannot be written ({e})")),
     }
 }
 
@@ -393,6 +410,12 @@ mod tests {
             "{e}"
         );
         assert!(check_output("--out", &dir.join("new.nc")).is_ok());
+        // the probe leaves nothing behind
+        let left = fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name());
+        let probes: Vec<_> = left
+            .filter(|n| n.to_string_lossy().ends_with(".probe"))
+            .collect();
+        assert!(probes.is_empty(), "{probes:?}");
         // a trailing separator names a folder, not the file before it
         let slashed = PathBuf::from(format!("{}/", dir.join("new.nc").display()));
         let e = check_output("--out", &slashed).unwrap_err().to_string();

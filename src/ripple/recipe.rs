@@ -22,18 +22,31 @@ use std::str::FromStr;
 
 use super::RippleError;
 use super::params::RippleParams;
+use super::travel::median_travel;
 
 /// The longest a run of a recipe that runs until its field is mature lasts by default,
 /// simulated seconds: 6 hours (the recipe's sections stop at 969-5155 s at 0.1-0.4 mm;
 /// docs/ripple.md, "A recipe for mature current ripples").
 pub const DEFAULT_CAP_S: f64 = 21_600.0;
 
-/// The current speed, m/s, at which the recipe for mature current ripples was measured
-/// against Soulsby & Whitehouse (2005): its ripples grow with the grains' flat-bed travel, and
-/// so with the current, where nature's equilibrium current ripples keep their size
-/// (docs/ripple.md, "The current's speed"); `cellsurf ripple` warns where the travel is
-/// outside 0.8 to 1.25 times that at this speed.
-pub const MEASURED_SPEED: f64 = 0.5;
+/// The length of the recipe's ripples at equilibrium, in nominal flat-bed travels of the median
+/// grain in the current ([`median_travel`]): 66, the mean of the 59-70 measured on its 2-D
+/// sections (`cellsurf ripple --d50 D --current-speed U --seed N`, until equilibrium: 0.07 to
+/// 0.8 mm at 0.5 m/s, seeds 1-3, and 0.2 mm at 0.35 to 0.65 m/s; docs/ripple.md, "The
+/// current's speed and the grain"). A measured property of the recipe, not an input: all of its lengths are in
+/// travels (its bin 0.75, its crest suspension 4), so its ripples follow the travel, which grows
+/// with the current and, at a fixed current, stops growing with the grain above about 0.5 mm,
+/// where nature's equilibrium current ripples follow the grain alone.
+pub const TRAVELS_PER_WAVELENGTH: f64 = 66.0;
+
+/// The wavelength the recipe's current ripples come to in the run `p`'s current, m:
+/// [`TRAVELS_PER_WAVELENGTH`] nominal flat-bed travels of the median grain at
+/// `p.current_speed`; `None` where the median grain does not move. `cellsurf ripple` compares
+/// it with Soulsby & Whitehouse (2005) and warns where the two differ by more than 20 %.
+pub fn expected_wavelength(p: &RippleParams) -> Option<f64> {
+    let travel = median_travel(p, p.current_speed);
+    (travel.is_finite() && travel > 0.0).then_some(TRAVELS_PER_WAVELENGTH * travel)
+}
 
 /// The text of the recipe for mature current ripples (a ripple scenario file).
 pub const MATURE_CURRENT: &str = include_str!("../../docs/ripple_mature_current.toml");
@@ -175,6 +188,22 @@ mod tests {
         assert_eq!(r.automata_for_bin(0.005), (0.0005, 200));
         assert_eq!(r.automata_for_bin(0.003), (0.0003, 333));
         assert_eq!(r.automata_for_bin(1.0), (0.1, 1));
+    }
+
+    /// The recipe's expected wavelength is 66 nominal travels of the median grain in the current,
+    /// growing with the current; none below the threshold of motion.
+    #[test]
+    fn expected_wavelength_is_66_travels_of_the_current() {
+        let mut p = Recipe::MatureCurrent.params();
+        let at = |p: &RippleParams| expected_wavelength(p).unwrap();
+        let default = at(&p);
+        assert_eq!(default, 66.0 * median_travel(&p, 0.5));
+        // 0.2 mm sand at 0.5 m/s: a nominal travel of 2.48 mm, 16.4 cm
+        assert!((default - 0.164).abs() < 0.001, "{default}");
+        p.current_speed = 0.65;
+        assert!(at(&p) > 1.5 * default);
+        p.current_speed = 0.1;
+        assert_eq!(expected_wavelength(&p), None);
     }
 
     #[test]

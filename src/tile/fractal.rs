@@ -64,11 +64,16 @@ pub struct FbmParams {
     pub dy: f64,
     /// The spectrum.
     pub relief: Relief,
-    /// Rms height, m (>= 0; 0 gives a flat field).
+    /// Rms height, m (0 to [`MAX_RMS`]; 0 gives a flat field).
     pub rms: f64,
     /// Seed of the random stream.
     pub seed: u64,
 }
+
+/// The largest rms height of a dune field, m: far above any sea floor's dunes and sand waves
+/// (tens of metres), and far below heights whose largest values no longer fit the volumes'
+/// 32-bit floats.
+pub const MAX_RMS: f64 = 1000.0;
 
 impl FbmParams {
     /// Checks every range.
@@ -83,8 +88,9 @@ impl FbmParams {
                 return Err(TileError::range(name, d, "> 0 m"));
             }
         }
-        if !(self.rms.is_finite() && self.rms >= 0.0) {
-            return Err(TileError::range("dune_rms", self.rms, ">= 0 m"));
+        if !(self.rms.is_finite() && (0.0..=MAX_RMS).contains(&self.rms)) {
+            let shown = crate::ripple::params::shown(self.rms);
+            return Err(TileError::range("dune_rms", shown, "0 to 1000 m"));
         }
         match self.relief {
             Relief::Fbm { hurst } => {

@@ -62,7 +62,8 @@ pub struct GenerateOptions {
     pub bin_size: Option<f64>,
     /// Current direction, degrees counter-clockwise from east.
     pub current_angle: Option<f64>,
-    /// Steps whose snapshots are tiles: the runs' steps are raised to the last.
+    /// Steps whose snapshots are tiles: where `steps` is not given, the runs' steps are raised
+    /// to the last.
     pub snapshots: Option<Vec<u64>>,
 }
 
@@ -76,7 +77,10 @@ impl GenerateOptions {
             ($($f:ident),+) => { $(if let Some(v) = self.$f { p.$f = v; })+ };
         }
         set!(nx, ny, layers, steps, activity, bin_size, current_angle);
-        if let Some(s) = &self.snapshots {
+        // (given steps are kept: a snapshot past them is the caller's to refuse)
+        if let Some(s) = &self.snapshots
+            && self.steps.is_none()
+        {
             p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
         }
     }
@@ -177,6 +181,14 @@ impl TileScenario {
         }
         .apply(&mut p);
         p.validate().map_err(ScenarioError::new)?;
+        if let Some(last) = k.snapshots.iter().flatten().copied().max()
+            && last > p.steps
+        {
+            return Err(ScenarioError::new(format!(
+                "snapshots = {last} is out of range: expected steps in [0, steps = {}]",
+                p.steps
+            )));
+        }
         let seed = k.seed.unwrap_or(1);
         let layout = match (&k.mosaic, &k.extent) {
             (Some(_), Some(_)) => {
