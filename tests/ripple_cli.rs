@@ -1415,7 +1415,7 @@ fn the_recipe_flag_starts_from_the_built_in_recipe() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         o.status.success()
-            && err.contains("--bin-size = 0.005 m is more than twice the median grain's travel on a flat bed (0.0016 m"),
+            && err.contains("--bin-size = 0.005 m is more than twice the median grain's travel on a flat bed (0.001644 m"),
         "{err}"
     );
 }

@@ -122,7 +122,7 @@ fn one_tile_json_has_no_nan_and_dry_run_estimates() {
 fn bad_input_is_named() {
     for (extra, want) in [
         (&["--mosaic", "0x2"][..], "mosaic = 0x2 is out of range"),
-        (&["--mosaic", "2"][..], "--mosaic = '2' is not valid"),
+        (&["--mosaic", "2"][..], "'2' is not two counts AxB"),
         (&["--blend", "99"][..], "blend = 99 is out of range"),
         (&["--choose", "all"][..], "choose = all is out of range"),
         (

@@ -210,8 +210,8 @@ pub fn interrupted() -> ! {
 static HELD: Mutex<Option<Vec<String>>> = Mutex::new(None);
 
 /// Holds the notes and warnings of [`note`] back until [`begin`] (or [`finish`]), so that a
-/// run refused for a bad input says its error on the first line of stderr, before any warning
-/// about the inputs checked before it.
+/// run refused for a bad input says its error on the first line of stderr, and not the
+/// warnings about the run it did not make.
 pub fn hold_notes() {
     if let Ok(mut h) = HELD.lock() {
         *h = Some(Vec::new());
@@ -561,8 +561,11 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
         Err(e) => {
             let dropped = cellsurf::engine::io::discard_held();
             err_line(format_args!("error: {}", render_error(&e)));
-            // (the warnings about the inputs, after the error that ended the run)
-            begin();
+            // (the warnings held about a run that was refused are not said: they are said
+            // once the inputs are right)
+            if let Ok(mut h) = HELD.lock() {
+                *h = None;
+            }
             if dropped > 0 {
                 err_line("(no output was written: the run failed)");
             }

@@ -234,6 +234,8 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
         ));
         return Ok(());
     }
+    // (--gather: its inputs are the part files it reads)
+    conv::begin();
     let prefix = format!("{}.part-", study.figure());
     let mut names: Vec<PathBuf> = std::fs::read_dir(&a.out_dir)
         .with_context(|| format!("--gather: reading --out-dir {}", a.out_dir.display()))?

@@ -24,7 +24,7 @@ use cellsurf::ripple::recipe::{
     DEFAULT_CAP_S, Recipe, TRAVELS_PER_WAVELENGTH, expected_wavelength,
 };
 use cellsurf::ripple::regime::Regime;
-use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, wave_friction_factor};
+use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, run_wave_friction_factor};
 use cellsurf::ripple::{
     Abstraction, AcousticModel, Analysis, Field, Format, Mode, OutputSpec, Ripple, RippleParams,
 };
@@ -154,7 +154,8 @@ pub struct Args {
     water_depth: Option<f64>,
     /// Wave friction factor f_w of the waves' bed stress rho (f_w / 2) U_w^2, 0 to 1 (0: the
     /// waves use the current's drag coefficient) [default: with --wave-period, Soulsby (1997)
-    /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3].
+    /// Eq. 60a, 1.39 (A / z0)^-0.52 with A = U_w T / (2 pi) and z0 = d50 / 12, at most 0.3 and
+    /// at least twice the drag coefficient, 0.005: long periods rub like a current].
     #[arg(long, allow_hyphen_values = true)]
     wave_friction_factor: Option<f64>,
     /// The lee vortex of wave ripples (docs/ripple.md "Waves"): the shelter behind a crest
@@ -355,7 +356,9 @@ fn waves_dominate_asked(a: &Args) -> bool {
     };
     let f_w = match (a.wave_friction_factor, a.wave_period) {
         (Some(f), _) => f,
-        (None, Some(t)) if u_w > 0.0 && t > 0.0 => wave_friction_factor(u_w, t, d50_m),
+        (None, Some(t)) if u_w > 0.0 && t > 0.0 => {
+            run_wave_friction_factor(u_w, t, d50_m, base.drag_coefficient)
+        }
         _ => 0.0,
     };
     RippleParams {
@@ -650,7 +653,8 @@ fn params_from(
     }
     // the waves' own bed friction, from their orbital excursion (seconds given here)
     if let (Some(t), None) = (a.wave_period, a.wave_friction_factor) {
-        p.wave_friction_factor = wave_friction_factor(p.wave_amplitude, t, p.d50 * 1e-3);
+        p.wave_friction_factor =
+            run_wave_friction_factor(p.wave_amplitude, t, p.d50 * 1e-3, p.drag_coefficient);
     } else if a.wave_period.is_none()
         && a.wave_friction_factor.is_none()
         && p.wave_friction_factor > 0.0
@@ -1026,7 +1030,8 @@ fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
                     (Some(_), _) => "from --wave-friction-factor".to_string(),
                     (None, Some(t)) => format!(
                         "from their orbital excursion U_w T / (2 pi) = {:.3e} m with --wave-period = {t} s \
-                         (Soulsby Eq. 60a; a longer period lowers it), or set by --wave-friction-factor",
+                         (Soulsby Eq. 60a, at least twice the drag coefficient: a longer period \
+                         lowers it to that), or set by --wave-friction-factor",
                         p.wave_amplitude * t / (2.0 * std::f64::consts::PI)
                     ),
                     (None, None) => "from their orbital excursion, Soulsby Eq. 60a, or set by \
@@ -1284,7 +1289,7 @@ pub fn run(a: Args) -> Result<()> {
     let (lo, hi) = reg.ripple_speeds;
     match reg.regime {
         Regime::SheetFlow => bail!(
-            "{} is out of range: {}the flow's largest speed, {:.3} m/s{}, gives a Shields number of {:.2} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            "{} is out of range: {}the flow's largest speed, {:.4} m/s{}, gives a Shields number of {:.4} on d50 = {} mm, above {}: sheet flow, where ripples are washed out into a flat bed and the rules of this model do not hold; expected a largest speed of {lo:.4} to {hi:.4} m/s for ripples",
             flow_cause(&a, &p).0,
             match flow_cause(&a, &p).1 {
                 d if d.is_empty() => d,
@@ -1404,8 +1409,11 @@ pub fn run(a: Args) -> Result<()> {
         && p.bin_size > 2.0 * travel
     {
         conv::note(format_args!(
-            "warning: --bin-size = {} m is more than twice the median grain's travel on a flat bed ({travel:.4} m: hop_grains = {} diameters per unit of excess Shields stage at {} m/s): a grain then moves a whole bin or none, so the ripples will be longer than in finer bins; give a smaller --bin-size (and --layer-thickness)",
-            p.bin_size, p.hop_grains, p.current_speed
+            "warning: --bin-size = {} m is more than twice the median grain's travel on a flat bed ({} m: hop_grains = {} diameters per unit of excess Shields stage at {} m/s): a grain then moves a whole bin or none, so the ripples will be longer than in finer bins; give a smaller --bin-size (and --layer-thickness)",
+            p.bin_size,
+            cellsurf::ripple::params::rounded(travel),
+            p.hop_grains,
+            p.current_speed
         ));
     }
     let surface = match (a.wave_height, secs.wave_period(), a.water_depth) {

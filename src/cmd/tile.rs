@@ -87,10 +87,10 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', value_parser = conv::count_in::<u64>(params::STEPS))]
     snapshots: Option<Vec<u64>>,
     /// Tiles along x and y, MXxMY; instead of --extent [default: 3x3].
-    #[arg(long, value_name = "MXxMY", allow_hyphen_values = true)]
+    #[arg(long, value_name = "MXxMY", allow_hyphen_values = true, value_parser = counts_form)]
     mosaic: Option<String>,
     /// Surface size in metres, WxH (rounded up to whole tiles); instead of --mosaic.
-    #[arg(long, value_name = "WxH", allow_hyphen_values = true)]
+    #[arg(long, value_name = "WxH", allow_hyphen_values = true, value_parser = lengths_form)]
     extent: Option<String>,
     /// Tile choice per mosaic cell: same (the first tile) or patches (seeded random).
     #[arg(long, default_value = "same")]
@@ -149,7 +149,7 @@ pub struct Args {
     part: Option<String>,
     /// --out X.zarr: tiles per chunk along x and y, KXxKY [default: chunks of about 2^20
     /// values (4 MB), at least one tile].
-    #[arg(long, value_name = "KXxKY")]
+    #[arg(long, value_name = "KXxKY", value_parser = counts_form)]
     chunk_tiles: Option<String>,
     /// --out X.zarr: write the store's metadata only (the parts then check it).
     #[arg(long)]
@@ -210,13 +210,45 @@ struct Recorded {
     ripple: Option<RippleRecord>,
 }
 
-fn parse_pair<T: std::str::FromStr>(name: &str, s: &str, example: &str) -> Result<(T, T)> {
-    let bad = || anyhow::anyhow!("--{name} = '{s}' is not valid: expected AxB, e.g. {example}");
-    let (a, b) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    Ok((
-        a.trim().parse().map_err(|_| bad())?,
-        b.trim().parse().map_err(|_| bad())?,
+/// The two counts of `AxB` (`3x3`; scientific notation accepted, `1e1x2`, as by every count).
+fn counts(s: &str) -> Option<(usize, usize)> {
+    let (a, b) = s.split_once(['x', 'X'])?;
+    Some((
+        conv::parse_usize(a.trim()).ok()?,
+        conv::parse_usize(b.trim()).ok()?,
     ))
+}
+
+/// The two lengths of `WxH`, m.
+fn lengths(s: &str) -> Option<(f64, f64)> {
+    let (a, b) = s.split_once(['x', 'X'])?;
+    Some((a.trim().parse().ok()?, b.trim().parse().ok()?))
+}
+
+/// The command line's check of `--mosaic` and `--chunk-tiles` (a form it cannot read is
+/// refused as the command line is read, status 2); the value is kept as written.
+fn counts_form(s: &str) -> Result<String, String> {
+    counts(s)
+        .map(|_| s.to_string())
+        .ok_or_else(|| format!("'{s}' is not two counts AxB (e.g. 3x3 or 1e1x2)"))
+}
+
+/// The command line's check of `--extent`.
+fn lengths_form(s: &str) -> Result<String, String> {
+    lengths(s)
+        .map(|_| s.to_string())
+        .ok_or_else(|| format!("'{s}' is not two lengths WxH in metres (e.g. 1000x1000)"))
+}
+
+fn parse_pair<T>(
+    name: &str,
+    s: &str,
+    example: &str,
+    read: fn(&str) -> Option<(T, T)>,
+) -> Result<(T, T)> {
+    read(s).ok_or_else(|| {
+        anyhow::anyhow!("--{name} = '{s}' is not valid: expected AxB, e.g. {example}")
+    })
 }
 
 fn ripple_params(a: &Args) -> Result<RippleParams> {
@@ -748,7 +780,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let chunk_tiles = match &a.chunk_tiles {
-        Some(t) => Some(parse_pair::<usize>("chunk-tiles", t, "8x8")?),
+        Some(t) => Some(parse_pair("chunk-tiles", t, "8x8", counts)?),
         None => None,
     };
     // What can be checked before the tiles are generated (which may take minutes) is checked
@@ -766,7 +798,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     let mosaic_given = match &a.mosaic {
         Some(m) => {
-            let (mx, my) = parse_pair::<usize>("mosaic", m, "3x3")?;
+            let (mx, my) = parse_pair("mosaic", m, "3x3", counts)?;
             if mx == 0 || my == 0 {
                 bail!("--mosaic = {mx}x{my} is out of range: expected at least 1x1 tiles");
             }
@@ -776,7 +808,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let extent_given = match &a.extent {
         Some(e) => {
-            let (w, h) = parse_pair::<f64>("extent", e, "1000x1000 (metres)")?;
+            let (w, h) = parse_pair("extent", e, "1000x1000 (metres)", lengths)?;
             if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
                 bail!("--extent = {e} is out of range: expected positive sizes in metres");
             }

@@ -714,6 +714,23 @@ impl RippleParams {
         }
     }
 
+    /// The direction on the lattice along which the lee and stoss faces are measured, degrees:
+    /// the dominant flow's ([`RippleParams::lattice_flow_angle`]), turned by 180 deg where
+    /// waves dominate a current they point against (more than 90 deg from it): a wave's
+    /// direction is a sign that means nothing to its to-and-fro, while the current's drift
+    /// sets which face is the lee (waves at 0 and 180 deg over one current gave symmetry
+    /// indices of 1.4-1.6 and 0.75-0.84, each the other's inverse, before).
+    pub fn lattice_face_angle(&self) -> f64 {
+        let a = self.lattice_flow_angle();
+        let against = (self.flow_angle() - self.current_angle).to_radians().cos() < -1e-9;
+        if self.mode == Mode::ThreeD && self.current_speed > 0.0 && self.waves_dominate() && against
+        {
+            a + 180.0
+        } else {
+            a
+        }
+    }
+
     /// The wave amplitude, m/s, that gives the waves' bed stress through `drag_coefficient`:
     /// `U_w sqrt(f_w / (2 C_D))`, or `U_w` itself when `wave_friction_factor` is 0. The rules,
     /// the step clock, the regime and Rubin & Hunter's crest normal combine it with the
@@ -1344,6 +1361,22 @@ mod tests {
         // the lattice stays along the current; the dominant flow crosses it
         assert_eq!(rubbing.frame_angle(), 30.0);
         assert_eq!(rubbing.lattice_flow_angle(), 50.0);
+        // the faces along the waves, in the current's sense: as they are for waves within
+        // 90 deg of the current, turned for waves against it
+        assert_eq!(rubbing.lattice_face_angle(), 50.0);
+        let against = RippleParams {
+            wave_angle: Some(210.0),
+            ..rubbing.clone()
+        };
+        assert!(against.waves_dominate());
+        assert_eq!(against.lattice_flow_angle(), 180.0);
+        assert_eq!(against.lattice_face_angle(), 360.0);
+        let still = RippleParams {
+            current_speed: 0.0,
+            ..against.clone()
+        };
+        assert_eq!(still.lattice_face_angle(), still.lattice_flow_angle());
+        assert_eq!(both.lattice_face_angle(), both.lattice_flow_angle());
         let grid = RippleParams {
             frame: Frame::Grid,
             ..rubbing

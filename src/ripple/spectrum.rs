@@ -179,12 +179,14 @@ impl Analysis {
         let elev = r.elevation();
         let (wavelength_m, lattice_normal) = dominant_wave(&elev, nx, ny, dx);
         // from the lattice's frame to east-based degrees
-        let crest_normal_deg = (lattice_normal + p.frame_angle()).rem_euclid(180.0);
+        // (+ 0.0: a normal of -0 deg is 0 deg)
+        let crest_normal_deg = (lattice_normal + p.frame_angle()).rem_euclid(180.0) + 0.0;
         let smooth = moore_average(r, &elev);
         let (mean, sd) = mean_std(&smooth);
         // profiles along the dominant flow on the lattice (towards -x for a 2-D section run at
-        // 180 deg, so that lee and stoss keep their sides)
-        let theta = p.lattice_flow_angle().to_radians();
+        // 180 deg, so that lee and stoss keep their sides; in the current's sense where waves
+        // dominate it)
+        let theta = p.lattice_face_angle().to_radians();
         let f = faces(&elev, nx, ny, dx, p.layer_thickness, theta);
         let vol = r.volume();
         let k = r.classes().len();

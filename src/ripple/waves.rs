@@ -148,6 +148,20 @@ pub fn wave_friction_factor(u_w: f64, period: f64, d50: f64) -> f64 {
     (1.39 * (a / (d50 / 12.0)).powf(-0.52)).min(WAVE_FRICTION_MAX)
 }
 
+/// The wave friction factor a run takes by default: Eq. 60a ([`wave_friction_factor`]), but
+/// at least `2 C_D` (`drag_coefficient`), so that waves rub the bed at least as a steady
+/// current of their speed does. Eq. 60a falls with the excursion, and for long periods (an
+/// excursion of some 5 x 10^4 roughness lengths and more: 0.4 m/s waves over 0.2 mm sand
+/// from a period of about 13 s) it would make the waves rub less than that current, where a
+/// slow oscillation's boundary layer grows towards the steady flow's (our reading; Eq. 60a
+/// is fitted to excursions of up to about 10^4 roughness lengths). 0 without a wave.
+pub fn run_wave_friction_factor(u_w: f64, period: f64, d50: f64, drag_coefficient: f64) -> f64 {
+    match wave_friction_factor(u_w, period, d50) {
+        f if f > 0.0 => f.max(2.0 * drag_coefficient),
+        f => f,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -218,6 +232,20 @@ mod tests {
             let e = SurfaceWave::new(h, t, d).unwrap_err().to_string();
             assert!(e.contains(name), "{e}");
         }
+    }
+
+    /// The run's factor is Eq. 60a's for the usual excursions and `2 C_D` for long periods.
+    #[test]
+    fn run_wave_friction_factor_is_at_least_twice_the_drag_coefficient() {
+        let (cd, d50) = (0.0025, 0.2e-3);
+        // 0.4 m/s, 8 s: A = 0.51 m, A / z0 = 3.1e4, f_w = 0.0062
+        let f8 = wave_friction_factor(0.4, 8.0, d50);
+        assert!(f8 > 2.0 * cd, "{f8}");
+        assert_eq!(run_wave_friction_factor(0.4, 8.0, d50, cd), f8);
+        // 1000 s: Eq. 60a gives 6e-4, below 2 C_D
+        assert!(wave_friction_factor(0.3, 1000.0, d50) < 2.0 * cd);
+        assert_eq!(run_wave_friction_factor(0.3, 1000.0, d50, cd), 2.0 * cd);
+        assert_eq!(run_wave_friction_factor(0.0, 8.0, d50, cd), 0.0);
     }
 
     #[test]

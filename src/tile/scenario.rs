@@ -150,8 +150,8 @@ fn pair<T: std::str::FromStr>(key: &str, s: &str) -> Result<(T, T), ScenarioErro
 
 impl TileScenario {
     /// Reads a scenario file as `cellsurf tile --scenario` does: the ripple runs' parameters
-    /// are the ripple defaults with `size` (or `nx`, `ny`), `layers`, `steps` (raised to the
-    /// last of `snapshots`), `activity`, `bin_size` and `current_angle`; the mosaic `mosaic` or
+    /// are the ripple defaults with `size` (or `nx`, `ny`), `layers`, `steps` (a `snapshots`
+    /// step past it is refused; without it the runs go to the last snapshot), `activity`, `bin_size` and `current_angle`; the mosaic `mosaic` or
     /// `extent`, `choose`, `blend`, `seed`; the dunes `hurst`, `dune_rms`, `dune_wavelength`,
     /// `current_angle`, `steering`, `dune_grid`, `dune_seed`. Tiles from files (`tile`) and a
     /// `ripple_scenario` file are read by the subcommand only.
@@ -315,6 +315,21 @@ impl TileScenario {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A snapshot past the given steps is refused; without steps the runs go on to it.
+    #[test]
+    fn snapshots_past_the_steps_are_refused_unless_the_steps_follow_them() {
+        let head = "model = \"tile\"\ngenerate = true\nsize = \"16x8\"\n";
+        let e = TileScenario::parse(&format!("{head}steps = 10\nsnapshots = [5, 50]\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("snapshots = 50 is out of range: expected steps in [0, steps = 10]"),
+            "{e}"
+        );
+        let s = TileScenario::parse(&format!("{head}snapshots = [5, 20000]\n")).unwrap();
+        assert_eq!((s.ripple.steps, s.snapshots), (20000, vec![5, 20000]));
+    }
 
     #[test]
     fn keys_become_the_run_and_the_rest_keep_the_defaults() {
