@@ -958,13 +958,12 @@ fn the_error_comes_first_and_no_value_is_changed_silently() {
     let ripple = [
         "ripple", "--recipe", "paper", "--size", "16x8", "--layers", "10", "--steps", "10",
     ];
+    let ripple_with = |extra: &[&'static str]| -> Vec<&'static str> {
+        ripple.iter().chain(extra).copied().collect()
+    };
     let refused: Vec<(Vec<&str>, &str)> = vec![
         (
-            ripple
-                .iter()
-                .chain(&["--snapshots", "20"])
-                .copied()
-                .collect(),
+            ripple_with(&["--snapshots", "20"]),
             "error: --snapshots = 20 is out of range",
         ),
         (
@@ -1005,14 +1004,52 @@ fn the_error_comes_first_and_no_value_is_changed_silently() {
         assert_ne!(code, Some(0), "{args:?}: {e}");
         assert!(e.starts_with(first), "{args:?}: {e}");
     }
-    // the warnings about the run that was not made are not said
-    let (_, e) = stderr(
-        &ripple
-            .iter()
-            .chain(&["--snapshots", "20"])
-            .copied()
-            .collect::<Vec<_>>(),
+    // an output's folder that takes no file is refused before the run (/sys, even as root)
+    if std::fs::create_dir("/sys/cellsurf-probe-test").is_err() {
+        let (code, e) = stderr(&ripple_with(&["--out", "/sys/cellsurf-probe.nc"]));
+        assert_eq!(code, Some(1), "{e}");
+        assert!(
+            e.starts_with("error: --out /sys/cellsurf-probe.nc: its folder cannot be written"),
+            "{e}"
+        );
+    }
+    // a scenario's steps are the scenario's to keep; past the default steps the runs go on,
+    // said even with --quiet
+    let dir = tmp_in("conventions-tile-steps", "");
+    let scenario = dir.join("t.toml");
+    std::fs::write(
+        &scenario,
+        "model = \"tile\"\ngenerate = true\nsize = \"16x8\"\nlayers = 10\nsteps = 10\nsnapshots = [20]\n",
+    )
+    .unwrap();
+    let (code, e) = stderr(&["tile", "--scenario", scenario.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{e}");
+    assert!(
+        e.starts_with(
+            "error: the scenario's snapshots = 20 is out of range: expected steps in [0, steps = 10 (the scenario's)]"
+        ),
+        "{e}"
     );
+    let (code, e) = stderr(&[
+        "tile",
+        "--generate",
+        "--size",
+        "16x8",
+        "--layers",
+        "10",
+        "--snapshots",
+        "10001",
+        "--mosaic",
+        "1x1",
+        "--quiet",
+    ]);
+    assert_eq!(code, Some(0), "{e}");
+    assert!(
+        e.contains("warning: --snapshots = 10001 is past the runs' 10000 steps"),
+        "{e}"
+    );
+    // the warnings about the run that was not made are not said
+    let (_, e) = stderr(&ripple_with(&["--snapshots", "20"]));
     assert!(!e.contains("warning:"), "{e}");
     // changed values are warned of with --quiet
     let dir = tmp_in("conventions-quiet-warnings", "");

@@ -123,21 +123,28 @@ pub fn given_flags(flags: &[(&str, &str, bool)]) -> Vec<String> {
 }
 
 /// The command line with a negative infinity or NaN given as an option's value joined to it
-/// (`--n -inf` read as `--n=-inf`): the parser takes `-inf` for short flags otherwise, and
-/// refuses it without naming the option, where a negative number is the option's to refuse.
+/// (`--n -inf` read as `--n=-inf`, `-q -nan` as `-q=-nan`, `--snapshots -inf,5` as
+/// `--snapshots=-inf,5`): the parser takes `-inf` for short flags otherwise, and refuses it
+/// without naming the option, where a negative number is the option's to refuse.
 pub fn negative_words_joined(
     args: impl IntoIterator<Item = std::ffi::OsString>,
 ) -> Vec<std::ffi::OsString> {
     let mut out: Vec<std::ffi::OsString> = Vec::new();
     for w in args {
         let word = w.to_string_lossy().to_ascii_lowercase();
-        let special = ["-inf", "-infinity", "-nan"].contains(&word.as_str());
+        // (a list's first item too: `--snapshots -inf,5`)
+        let first = word.split(',').next().unwrap_or("");
+        let special = ["-inf", "-infinity", "-nan"].contains(&first);
+        // a long option (`--n`) or a short one (`-q`), without a value joined to it
+        let option = |p: &str| {
+            !p.contains('=')
+                && (p.len() > 2 && p.starts_with("--")
+                    || p.len() == 2 && p.starts_with('-') && p != "--")
+        };
         if special
             && let Some(prev) = out.last_mut()
             && let Some(p) = prev.to_str()
-            && p.starts_with("--")
-            && p.len() > 2
-            && !p.contains('=')
+            && option(p)
         {
             let mut joined = std::ffi::OsString::from(format!("{p}="));
             joined.push(&w);
@@ -1307,8 +1314,12 @@ fn kind_that_fits<A: DeserializeOwned>(defaults: &toml::Table, k: &str) -> Optio
             "a list of strings in brackets, e.g. [\"a\", \"b\"]",
         ),
         (
+            V::Array(vec![V::Integer(1)]),
+            "a list of whole numbers in brackets, e.g. [1, 2]",
+        ),
+        (
             V::Array(vec![V::Float(0.5)]),
-            "a list of numbers in brackets, e.g. [1, 2]",
+            "a list of numbers in brackets, e.g. [0.5, 2]",
         ),
     ];
     candidates
@@ -1445,12 +1456,15 @@ mod tests {
             joined(&["x", "--a", "-Infinity"]),
             words(&["x", "--a=-Infinity"])
         );
+        assert_eq!(joined(&["x", "-q", "-inf"]), words(&["x", "-q=-inf"]));
+        assert_eq!(joined(&["x", "--s", "-inf,5"]), words(&["x", "--s=-inf,5"]));
         for kept in [
             &["x", "--a=1", "-inf"][..],
             &["x", "--", "-inf"],
-            &["x", "-d", "-inf"],
+            &["x", "-dq", "-inf"],
             &["x", "--a", "-1"],
             &["x", "--a", "-infx"],
+            &["x", "--a", "5,-inf"],
         ] {
             assert_eq!(joined(kept), words(kept), "{kept:?}");
         }

@@ -219,14 +219,31 @@ fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
         )
     })?;
     s.validate().map_err(|e| {
-        anyhow::anyhow!("in --wind-field {}: {}", g.name(), flagged(&e.to_string()))
+        anyhow::anyhow!(
+            "in --wind-field {}: {}",
+            g.name(),
+            flagged(&e.to_string(), a)
+        )
     })?;
     Ok(s)
 }
 
 /// The field's error `wind NAME = V is out of range: ...` said with the flag that sets it,
-/// `--wind-NAME = V`, and `(the default)` after a value not typed.
-fn flagged(msg: &str) -> String {
+/// `--wind-NAME = V`, and `(the scenario's)` or `(the default)` after a value not typed.
+fn flagged(msg: &str, a: &Args) -> String {
+    // (whether the run's arguments hold the value: typed, or from the scenario file)
+    let held = |name: &str| match name {
+        "angle" => a.wind_angle.is_some(),
+        "arms" => a.wind_arms.is_some(),
+        "radial" => a.wind_radial.is_some(),
+        "radius" => a.wind_radius.is_some(),
+        "scale" => conv::set_by_scenario("wind_scale", &a.wind_scale.to_string()),
+        "spacing" => a.wind_spacing.is_some(),
+        "speed" => a.wind_speed.is_some(),
+        "spread" => a.wind_spread.is_some(),
+        "wavelength" => a.wind_wavelength.is_some(),
+        _ => false,
+    };
     const NAMES: [&str; 9] = [
         "angle",
         "arms",
@@ -242,6 +259,8 @@ fn flagged(msg: &str) -> String {
         if let Some(rest) = msg.strip_prefix(&format!("wind {name} = ")) {
             let default = if conv::typed(&format!("wind_{name}")) {
                 ""
+            } else if held(name) {
+                " (the scenario's)"
             } else {
                 " (the default)"
             };

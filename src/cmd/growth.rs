@@ -885,6 +885,7 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
         .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
     if let Some(p) = &a.part {
         let part: cellsurf::engine::part::Part = p.parse()?;
+        conv::begin();
         let records = converge::growth_runs(a.seeds, part)?;
         let path = a.out_dir.join(format!(
             "growth_error_vs_time.part-{}-of-{}.json",
@@ -901,6 +902,7 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
         conv::wrote(&path);
         return Ok(());
     }
+    conv::begin();
     let curves = if a.gather {
         let records = gather_parts(&a.out_dir, a.seeds)?;
         converge::gather_growth(a.seeds, &records).map_err(|e| anyhow::anyhow!("--gather: {e}"))?

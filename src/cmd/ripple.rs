@@ -1449,10 +1449,21 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     if clock.is_none() {
+        // (typed snapshots that cannot be written are said whatever --quiet says)
         if times.iter().any(|&t| t > 0) {
-            conv::note(format_args!(
-                "note: no motion, no step is run: the bed of step 0 is the only snapshot"
-            ));
+            let say = format!(
+                "{}: no motion, no step is run: the bed of step 0 is the only snapshot",
+                if a.snapshots.is_some() {
+                    "warning"
+                } else {
+                    "note"
+                }
+            );
+            if a.snapshots.is_some() {
+                conv::changed(say);
+            } else {
+                conv::note(say);
+            }
         }
         times = vec![0];
     }

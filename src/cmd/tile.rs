@@ -68,9 +68,9 @@ pub struct Args {
     /// --generate: mean sand thickness, automata per column [default: the scenario's, else 30].
     #[arg(long, value_parser = conv::count_in::<usize>(params::LAYERS))]
     layers: Option<usize>,
-    /// --generate: steps of each run (`1e4` accepted); a --snapshots step past it is refused
-    /// [default: the scenario's, else 10000, raised to the largest --snapshots step, with a
-    /// warning].
+    /// --generate: steps of each run (`1e4` accepted); a --snapshots step past it (or past a
+    /// scenario's `steps`) is refused [default: the scenario's, else 10000, raised to the
+    /// largest --snapshots step, with a warning].
     #[arg(long, value_name = "N", value_parser = conv::count_in::<u64>(params::STEPS))]
     steps: Option<u64>,
     /// --generate: fraction of automata triggered per step [default: the scenario's, else
@@ -308,15 +308,26 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
     if let Some(last) = a.snapshots.as_ref().and_then(|s| s.iter().copied().max())
         && last > p.steps
     {
-        let snaps = conv::typed_flag("snapshots").unwrap_or_else(|| "--snapshots".into());
-        if let Some(flag) = conv::typed_flag("steps") {
+        let snaps = if conv::typed("snapshots") {
+            conv::typed_flag("snapshots").unwrap_or_else(|| "--snapshots".into())
+        } else {
+            "the scenario's snapshots".into()
+        };
+        if conv::typed("steps") {
+            let flag = conv::typed_flag("steps").unwrap_or_else(|| "--steps".into());
             bail!(
                 "{snaps} = {last} is out of range: expected steps in [0, {flag} = {}]",
                 p.steps
             );
         }
+        if a.steps.is_some() {
+            bail!(
+                "{snaps} = {last} is out of range: expected steps in [0, steps = {} (the scenario's)]",
+                p.steps
+            );
+        }
         conv::changed(format_args!(
-            "warning: {snaps} = {last} is past the runs' {} steps (the scenario's or the default): each run goes on to step {last}; give --steps to set it",
+            "warning: {snaps} = {last} is past the runs' {} steps (the default, or the --ripple-scenario's): each run goes on to step {last}; give --steps to set it",
             p.steps
         ));
         p.steps = last;
@@ -389,13 +400,13 @@ fn check_regime(a: &Args, p: &RippleParams) -> Result<()> {
     );
     match r.regime {
         Regime::SheetFlow => bail!(
-            "{flow} is out of range for --generate: its largest speed, {:.3} m/s, gives a Shields number of {:.2} on d50 = {} mm, above {THETA_SHEET_FLOW}: sheet flow, where ripples are washed out into a flat bed and the rules of the ripple model do not hold; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            "{flow} is out of range for --generate: its largest speed, {:.4} m/s, gives a Shields number of {:.4} on d50 = {} mm, above {THETA_SHEET_FLOW}: sheet flow, where ripples are washed out into a flat bed and the rules of the ripple model do not hold; expected a largest speed of {lo:.4} to {hi:.4} m/s for ripples",
             r.speed,
             r.shields,
             p.d50
         ),
         Regime::NoMotion => bail!(
-            "{flow} is out of range for --generate: its largest speed, {:.3} m/s, gives a Shields number of {:.3} on d50 = {} mm, below the threshold of motion {:.3}: no sand moves and the tiles would be the unmoved starting bed; expected a largest speed of {lo:.3} to {hi:.3} m/s for ripples",
+            "{flow} is out of range for --generate: its largest speed, {:.4} m/s, gives a Shields number of {:.4} on d50 = {} mm, below the threshold of motion {:.4}: no sand moves and the tiles would be the unmoved starting bed; expected a largest speed of {lo:.4} to {hi:.4} m/s for ripples",
             r.speed,
             r.shields,
             p.d50,
@@ -573,6 +584,8 @@ fn pool(a: &Args, quiet: bool) -> Result<(Vec<Tile>, Option<RippleRecord>)> {
         let last = steps.iter().copied().max().unwrap_or(0);
         record = Some(RippleRecord::of(&p)?);
         check_generate_memory(a, &p, seeds.len(), &steps)?;
+        // (the warnings about the runs before their minutes of progress bar)
+        conv::begin();
         let bar = bar(seeds.len() as u64 * last, "ripple tiles", quiet);
         tiles.extend(tiles_from_run(&p, &seeds, &steps, a.volume, |d| {
             if d % 64 == 0 {
@@ -864,6 +877,26 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
+    // the dunes' ranges that do not depend on the tiles, before any tile is made
+    if a.dunes {
+        if let Some(r) = a.dune_rms
+            && !(r.is_finite() && (0.0..=cellsurf::tile::fractal::MAX_RMS).contains(&r))
+        {
+            bail!(
+                "{} = {} is out of range: expected 0 to {} m",
+                conv::typed_flag("dune_rms").unwrap_or_else(|| "--dune-rms".into()),
+                cellsurf::ripple::params::shown(r),
+                cellsurf::tile::fractal::MAX_RMS
+            );
+        }
+        if a.dune_wavelength.is_none() && !(a.hurst.is_finite() && a.hurst > 0.0 && a.hurst < 1.0) {
+            bail!(
+                "{} = {} is out of range: expected 0 < H < 1",
+                conv::typed_flag("hurst").unwrap_or_else(|| "--hurst".into()),
+                a.hurst
+            );
+        }
+    }
     let (tiles, ripple_record) = pool(&a, quiet)?;
     let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);
     let (mx, my) = match (mosaic_given, extent_given) {
@@ -893,6 +926,15 @@ pub fn run(a: Args) -> Result<()> {
     let tile_angle = tiles[0].current_angle;
     let x_axis = tiles[0].x_axis_deg;
     let current_in_mosaic = a.current_angle.map(|c| c - x_axis).unwrap_or(tile_angle);
+    // (the blend's range before the warnings about it: Mosaic::new checks it again)
+    if a.blend > nx.min(ny) {
+        bail!(
+            "{} = {} is out of range: expected 0 ..= {} bins (the smaller tile side)",
+            conv::typed_flag("blend").unwrap_or_else(|| "--blend".into()),
+            a.blend,
+            nx.min(ny)
+        );
+    }
     if a.blend > 0 && (choose == Choose::Same || tiles.len() == 1) {
         conv::note(format_args!(
             "warning: --blend = {} has no effect: the mosaic lays one tile ({}), which meets itself at its edges without a seam; give several tiles (--seeds or --tile) with --choose patches",

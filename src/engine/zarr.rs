@@ -668,6 +668,25 @@ pub fn store_target(path: &Path) -> Result<Option<bool>, String> {
     if !dir.is_dir() {
         return Err(format!("the folder {} does not exist", dir.display()));
     }
+    // (a folder that takes no new entry is refused before the run, not at its end)
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
+    let probe = dir.join(format!(
+        ".{}.probe-{}",
+        name.unwrap_or_else(|| "store".into()),
+        std::process::id()
+    ));
+    match std::fs::create_dir(&probe) {
+        Ok(()) => {
+            let _ = std::fs::remove_dir(&probe);
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+        Err(e) => {
+            return Err(format!(
+                "its folder {} cannot be written ({e})",
+                dir.display()
+            ));
+        }
+    }
     match std::fs::symlink_metadata(path) {
         Err(_) => Ok(None),
         Ok(m) if m.file_type().is_symlink() => {

@@ -812,8 +812,12 @@ fn validation_run(case: ValidationCase, seed: u64) -> Result<ValidationRecord, S
     if let ValidationCase::Wave(d0, _) = case {
         // the waves' own bed friction, as the command line sets it
         let period_s = std::f64::consts::PI * d0 / VALIDATION_UW;
-        p.wave_friction_factor =
-            super::waves::wave_friction_factor(VALIDATION_UW, period_s, p.d50 * 1e-3);
+        p.wave_friction_factor = super::waves::run_wave_friction_factor(
+            VALIDATION_UW,
+            period_s,
+            p.d50 * 1e-3,
+            p.drag_coefficient,
+        );
     }
     let clock = super::clock::StepClock::of(&p).map_err(|e| e.to_string())?;
     p.steps = clock.steps_for(case.seconds()).map_err(|e| e.to_string())?;

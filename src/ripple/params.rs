@@ -719,7 +719,8 @@ impl RippleParams {
     /// waves dominate a current they point against (more than 90 deg from it): a wave's
     /// direction is a sign that means nothing to its to-and-fro, while the current's drift
     /// sets which face is the lee (waves at 0 and 180 deg over one current gave symmetry
-    /// indices of 1.4-1.6 and 0.75-0.84, each the other's inverse, before).
+    /// indices of 1.4-1.6 and 0.75-0.84 before, lee and stoss swapped by the sign; 1.56 and
+    /// 1.18 after, seed 1, fields that still differ by the wave's phase).
     pub fn lattice_face_angle(&self) -> f64 {
         let a = self.lattice_flow_angle();
         let against = (self.flow_angle() - self.current_angle).to_radians().cos() < -1e-9;

@@ -149,7 +149,7 @@ pub fn wave_friction_factor(u_w: f64, period: f64, d50: f64) -> f64 {
 }
 
 /// The wave friction factor a run takes by default: Eq. 60a ([`wave_friction_factor`]), but
-/// at least `2 C_D` (`drag_coefficient`), so that waves rub the bed at least as a steady
+/// at least `2 C_D` (`drag_coefficient`; the floor itself at most [`WAVE_FRICTION_MAX`]), so that waves rub the bed at least as a steady
 /// current of their speed does. Eq. 60a falls with the excursion, and for long periods (an
 /// excursion of some 5 x 10^4 roughness lengths and more: 0.4 m/s waves over 0.2 mm sand
 /// from a period of about 13 s) it would make the waves rub less than that current, where a
@@ -157,7 +157,7 @@ pub fn wave_friction_factor(u_w: f64, period: f64, d50: f64) -> f64 {
 /// is fitted to excursions of up to about 10^4 roughness lengths). 0 without a wave.
 pub fn run_wave_friction_factor(u_w: f64, period: f64, d50: f64, drag_coefficient: f64) -> f64 {
     match wave_friction_factor(u_w, period, d50) {
-        f if f > 0.0 => f.max(2.0 * drag_coefficient),
+        f if f > 0.0 => f.max((2.0 * drag_coefficient).min(WAVE_FRICTION_MAX)),
         f => f,
     }
 }
@@ -246,6 +246,11 @@ mod tests {
         assert!(wave_friction_factor(0.3, 1000.0, d50) < 2.0 * cd);
         assert_eq!(run_wave_friction_factor(0.3, 1000.0, d50, cd), 2.0 * cd);
         assert_eq!(run_wave_friction_factor(0.0, 8.0, d50, cd), 0.0);
+        // the floor keeps to the factor's own limit, whatever the drag coefficient
+        assert_eq!(
+            run_wave_friction_factor(0.3, 1000.0, d50, 0.6),
+            WAVE_FRICTION_MAX
+        );
     }
 
     #[test]

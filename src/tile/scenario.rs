@@ -62,8 +62,8 @@ pub struct GenerateOptions {
     pub bin_size: Option<f64>,
     /// Current direction, degrees counter-clockwise from east.
     pub current_angle: Option<f64>,
-    /// Steps whose snapshots are tiles: where `steps` is not given, the runs' steps are raised
-    /// to the last.
+    /// Steps whose snapshots are tiles (they do not change the steps: [`TileScenario::parse`]
+    /// raises the runs' steps to the last where `steps` is not given).
     pub snapshots: Option<Vec<u64>>,
 }
 
@@ -77,12 +77,8 @@ impl GenerateOptions {
             ($($f:ident),+) => { $(if let Some(v) = self.$f { p.$f = v; })+ };
         }
         set!(nx, ny, layers, steps, activity, bin_size, current_angle);
-        // (given steps are kept: a snapshot past them is the caller's to refuse)
-        if let Some(s) = &self.snapshots
-            && self.steps.is_none()
-        {
-            p.steps = p.steps.max(s.iter().copied().max().unwrap_or(0));
-        }
+        // (the snapshots do not move the steps: a snapshot past them is the caller's to
+        // refuse, or to reach by raising the steps, and to say so)
     }
 }
 
@@ -184,10 +180,13 @@ impl TileScenario {
         if let Some(last) = k.snapshots.iter().flatten().copied().max()
             && last > p.steps
         {
-            return Err(ScenarioError::new(format!(
-                "snapshots = {last} is out of range: expected steps in [0, steps = {}]",
-                p.steps
-            )));
+            if k.steps.is_some() {
+                return Err(ScenarioError::new(format!(
+                    "snapshots = {last} is out of range: expected steps in [0, steps = {}]",
+                    p.steps
+                )));
+            }
+            p.steps = last;
         }
         let seed = k.seed.unwrap_or(1);
         let layout = match (&k.mosaic, &k.extent) {
