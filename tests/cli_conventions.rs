@@ -940,20 +940,16 @@ fn the_error_comes_first_and_no_value_is_changed_silently() {
         assert!(!e.contains("panicked"), "{args:?}: {e}");
         (o.status.code(), e)
     };
-    let generate = [
-        "tile",
-        "--generate",
-        "--size",
-        "16x8",
-        "--layers",
-        "10",
-        "--steps",
-        "10",
-        "--mosaic",
-        "2x2",
-    ];
+    // tiles of 16 x 8 bins generated in-process, and the same for 10 steps on 2 x 2 tiles
+    let tiles = ["tile", "--generate", "--size", "16x8", "--layers", "10"];
+    let tiles_with = |extra: &[&'static str]| -> Vec<&'static str> {
+        tiles.iter().chain(extra).copied().collect()
+    };
     let with = |extra: &[&'static str]| -> Vec<&'static str> {
-        generate.iter().chain(extra).copied().collect()
+        tiles_with(&["--steps", "10", "--mosaic", "2x2"])
+            .into_iter()
+            .chain(extra.iter().copied())
+            .collect()
     };
     let ripple = [
         "ripple", "--recipe", "paper", "--size", "16x8", "--layers", "10", "--steps", "10",
@@ -1030,19 +1026,13 @@ fn the_error_comes_first_and_no_value_is_changed_silently() {
         ),
         "{e}"
     );
-    let (code, e) = stderr(&[
-        "tile",
-        "--generate",
-        "--size",
-        "16x8",
-        "--layers",
-        "10",
+    let (code, e) = stderr(&tiles_with(&[
         "--snapshots",
         "10001",
         "--mosaic",
         "1x1",
         "--quiet",
-    ]);
+    ]));
     assert_eq!(code, Some(0), "{e}");
     assert!(
         e.contains("warning: --snapshots = 10001 is past the runs' 10000 steps"),
