@@ -1849,3 +1849,41 @@ fn the_recipe_warns_where_the_current_changes_its_travel() {
     assert!(o.status.success(), "{e}");
     assert!(e.contains("a field of 0.02976 x 0.00744"), "{e}");
 }
+
+/// The predictor's values are null, as its crest normal is, where the flow moves no grain
+/// (below the threshold of motion; deep-water waves whose orbit does not reach the bed gave a
+/// wavelength of 1e-19 m); in the ripple regime they are the predictor's.
+#[test]
+fn predictions_are_null_where_the_flow_moves_no_grain() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["ripple", "--size", "64x1", "--steps", "10", "--json"];
+        args.extend_from_slice(extra);
+        let o = cellsurf(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let deep = [
+        "--current-speed",
+        "0",
+        "--wave-height",
+        "2",
+        "--wave-period",
+        "3s",
+        "--water-depth",
+        "100",
+    ];
+    for v in [run(&deep), run(&["--current-speed", "0.26"])] {
+        assert_eq!(v["regime"], "no motion");
+        for key in [
+            "predicted_wavelength_m",
+            "predicted_height_m",
+            "predicted_crest_normal_deg",
+        ] {
+            assert!(v[key].is_null(), "{key}: {v}");
+        }
+    }
+    let v = run(&[]);
+    assert_eq!(v["regime"], "ripples");
+    let w = v["predicted_wavelength_m"].as_f64().unwrap();
+    assert!((w - 0.1459).abs() < 1e-3, "{w}");
+}

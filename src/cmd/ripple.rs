@@ -1623,15 +1623,18 @@ pub fn run(a: Args) -> Result<()> {
                 serde_json::Value::Null
             }
         };
+        let crest_normal = cellsurf::ripple::predictors::rubin_hunter_crest_normal(&p);
         let waves_and_checks = serde_json::json!({
             "wave_velocity_m_per_s": (p.wave_amplitude > 0.0).then_some(p.wave_amplitude),
             "wave_height_m": surface.map(|w| w.height),
             "water_depth_m": surface.map(|w| w.depth),
             "surface_wavelength_m": surface.map(|w| w.wavelength()),
-            "predicted_wavelength_m": predicted.wavelength,
-            "predicted_height_m": predicted.height,
+            // (null where the flow moves no grain by Meyer-Peter & Mueller, as the crest
+            // normal is: no ripple to predict, e.g. waves whose orbit does not reach the bed)
+            "predicted_wavelength_m": crest_normal.map(|_| predicted.wavelength),
+            "predicted_height_m": crest_normal.map(|_| predicted.height),
             "predictor": predicted.source,
-            "predicted_crest_normal_deg": cellsurf::ripple::predictors::rubin_hunter_crest_normal(&p),
+            "predicted_crest_normal_deg": crest_normal,
             "domain_length_along_flow_m": along,
             "x_axis_direction_deg": p.x_axis_direction_deg(),
         });
