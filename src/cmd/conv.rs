@@ -218,10 +218,10 @@ static HELD: Mutex<Option<Vec<String>>> = Mutex::new(None);
 
 /// Holds the notes and warnings of [`note`] back until [`begin`] (or [`finish`]), so that a
 /// run refused for a bad input says its error on the first line of stderr, and not the
-/// warnings about the run it did not make.
+/// warnings about the run it did not make; those already held stay held.
 pub fn hold_notes() {
     if let Ok(mut h) = HELD.lock() {
-        *h = Some(Vec::new());
+        h.get_or_insert_with(Vec::new);
     }
 }
 

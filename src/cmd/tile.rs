@@ -879,25 +879,13 @@ pub fn run(a: Args) -> Result<()> {
     }
     // the dunes' ranges that do not depend on the tiles, before any tile is made
     if a.dunes {
-        if let Some(r) = a.dune_rms
-            && !(r.is_finite() && (0.0..=cellsurf::tile::fractal::MAX_RMS).contains(&r))
-        {
-            bail!(
-                "{} = {} is out of range: expected 0 to {} m",
-                conv::typed_flag("dune_rms").unwrap_or_else(|| "--dune-rms".into()),
-                cellsurf::ripple::params::shown(r),
-                cellsurf::tile::fractal::MAX_RMS
-            );
-        }
-        if a.dune_wavelength.is_none() && !(a.hurst.is_finite() && a.hurst > 0.0 && a.hurst < 1.0) {
-            bail!(
-                "{} = {} is out of range: expected 0 < H < 1",
-                conv::typed_flag("hurst").unwrap_or_else(|| "--hurst".into()),
-                a.hurst
-            );
-        }
+        let hurst = a.dune_wavelength.is_none().then_some(a.hurst);
+        cellsurf::tile::fractal::check_strength(a.dune_rms.unwrap_or(0.0), hurst)?;
     }
     let (tiles, ripple_record) = pool(&a, quiet)?;
+    // (the warnings about the tiles wait, as those about the inputs did, for the checks that
+    // need the tiles: the mosaic's blend, the dunes')
+    conv::hold_notes();
     let (nx, ny, dx) = (tiles[0].nx, tiles[0].ny, tiles[0].bin_size);
     let (mx, my) = match (mosaic_given, extent_given) {
         (Some(m), _) => m,
@@ -926,15 +914,6 @@ pub fn run(a: Args) -> Result<()> {
     let tile_angle = tiles[0].current_angle;
     let x_axis = tiles[0].x_axis_deg;
     let current_in_mosaic = a.current_angle.map(|c| c - x_axis).unwrap_or(tile_angle);
-    // (the blend's range before the warnings about it: Mosaic::new checks it again)
-    if a.blend > nx.min(ny) {
-        bail!(
-            "{} = {} is out of range: expected 0 ..= {} bins (the smaller tile side)",
-            conv::typed_flag("blend").unwrap_or_else(|| "--blend".into()),
-            a.blend,
-            nx.min(ny)
-        );
-    }
     if a.blend > 0 && (choose == Choose::Same || tiles.len() == 1) {
         conv::note(format_args!(
             "warning: --blend = {} has no effect: the mosaic lays one tile ({}), which meets itself at its edges without a seam; give several tiles (--seeds or --tile) with --choose patches",

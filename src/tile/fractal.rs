@@ -75,6 +75,23 @@ pub struct FbmParams {
 /// 32-bit floats.
 pub const MAX_RMS: f64 = 1000.0;
 
+/// The ranges of the relief's strength that depend on nothing else: the rms height `rms`, m
+/// (0 to [`MAX_RMS`]), and the Hurst exponent of an fBm relief, in (0, 1) (`None` for a
+/// relief of one wavelength). [`FbmParams::validate`] checks them, and `cellsurf tile` before
+/// it makes any tile.
+pub fn check_strength(rms: f64, hurst: Option<f64>) -> Result<(), TileError> {
+    if !(rms.is_finite() && (0.0..=MAX_RMS).contains(&rms)) {
+        let shown = crate::ripple::params::shown(rms);
+        return Err(TileError::range("dune_rms", shown, "0 to 1000 m"));
+    }
+    if let Some(h) = hurst
+        && !(h.is_finite() && h > 0.0 && h < 1.0)
+    {
+        return Err(TileError::range("hurst", h, "0 < H < 1"));
+    }
+    Ok(())
+}
+
 impl FbmParams {
     /// Checks every range.
     pub fn validate(&self) -> Result<(), TileError> {
@@ -88,16 +105,13 @@ impl FbmParams {
                 return Err(TileError::range(name, d, "> 0 m"));
             }
         }
-        if !(self.rms.is_finite() && (0.0..=MAX_RMS).contains(&self.rms)) {
-            let shown = crate::ripple::params::shown(self.rms);
-            return Err(TileError::range("dune_rms", shown, "0 to 1000 m"));
-        }
+        let hurst = match self.relief {
+            Relief::Fbm { hurst } => Some(hurst),
+            Relief::Wavelength { .. } => None,
+        };
+        check_strength(self.rms, hurst)?;
         match self.relief {
-            Relief::Fbm { hurst } => {
-                if !(hurst.is_finite() && hurst > 0.0 && hurst < 1.0) {
-                    return Err(TileError::range("hurst", hurst, "0 < H < 1"));
-                }
-            }
+            Relief::Fbm { .. } => {}
             Relief::Wavelength {
                 wavelength,
                 current_angle,
