@@ -175,7 +175,8 @@ pub struct Args {
     #[arg(long)]
     vortex_strength: Option<f64>,
     /// Direction the waves propagate towards, degrees counter-clockwise from east, -360 to 360;
-    /// 3-D only [default: the current's direction].
+    /// 3-D only. With a current, the two bed stresses add as vectors, the current's raised
+    /// by the waves (Soulsby 1997, Eqs. 69-70) [default: the current's direction].
     #[arg(long, allow_hyphen_values = true)]
     wave_angle: Option<f64>,
     /// Orientation of the lattice: flow (x along the flow: the current, or the waves without

@@ -6,7 +6,8 @@
 //! *Proc. 2nd Meeting IAHR*, Stockholm, 39-64: `q_b = 8 (theta - theta_cr)^1.5
 //! sqrt(g (s - 1) d^3)` (m^2/s of grain volume per metre of width), with the Shields number
 //! of the median grain and its threshold as in [`super::regime`]. With a wave, the law is
-//! averaged over the cycle (64 phases of `|U_c e_c + U_w sin(phi) e_w|`), and so is the model's
+//! averaged over the cycle (64 phases of the flow of [`RippleParams::combined_flow`]: `U_w
+//! sin(phi) e_w` for waves alone; with a current the speed of their combined stress), and so is the model's
 //! flux, so that the step duration does not depend on the wave period.
 //!
 //! **The model's flux.** A step activates `activity x automata` automata; on a flat bed each
@@ -84,7 +85,7 @@ fn has_wave(p: &RippleParams) -> bool {
 }
 
 /// The free-stream speeds of the phases a run's flux is averaged over: the current alone, or
-/// 64 phases of the wave cycle (the magnitude of `U_c e_c + U_w sin(phi) e_w`).
+/// 64 phases of the wave cycle (the magnitude of [`RippleParams::combined_flow`]).
 pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
     if !has_wave(p) {
         return vec![p.current_speed.abs()];
@@ -97,8 +98,7 @@ pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
     (0..PHASES)
         .map(|k| {
             let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / PHASES as f64).sin();
-            let ux = p.current_speed * c.cos() + p.wave_stress_amplitude() * s * w.cos();
-            let uy = p.current_speed * c.sin() + p.wave_stress_amplitude() * s * w.sin();
+            let (ux, uy) = p.combined_flow(c, w, s);
             ux.hypot(uy)
         })
         .collect()

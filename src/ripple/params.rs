@@ -735,14 +735,63 @@ impl RippleParams {
     /// The wave amplitude, m/s, that gives the waves' bed stress through `drag_coefficient`:
     /// `U_w sqrt(f_w / (2 C_D))`, or `U_w` itself when `wave_friction_factor` is 0. The rules,
     /// the step clock, the regime and Rubin & Hunter's crest normal combine it with the
-    /// current as vectors (friction velocities `sqrt(C_D) U_c` and `sqrt(f_w / 2) U_w` add),
-    /// so that `rho_w C_D u^2` of the combined speed `u` is the bed stress.
+    /// current by their stresses ([`RippleParams::combined_flow`]).
     pub fn wave_stress_amplitude(&self) -> f64 {
         if self.wave_friction_factor > 0.0 {
             self.wave_amplitude * (0.5 * self.wave_friction_factor / self.drag_coefficient).sqrt()
         } else {
             self.wave_amplitude
         }
+    }
+
+    /// The current's bed stress raised by the waves, as the speed of a current that rubs the
+    /// bed as hard through `drag_coefficient`, m/s: Eq. 69 of R. L. Soulsby (1997),
+    /// *Dynamics of Marine Sands*, Thomas Telford, `tau_m = tau_c [1 + 1.2 (tau_w / (tau_c +
+    /// tau_w))^3.2]`, with `tau_c = rho_w C_D U_c^2` and the waves' own stress `tau_w`
+    /// ([`RippleParams::wave_stress_amplitude`]). `U_c` itself without waves; 0 without a
+    /// current.
+    pub fn mean_stress_speed(&self) -> f64 {
+        let (c2, w) = (
+            self.current_speed * self.current_speed,
+            self.wave_stress_amplitude(),
+        );
+        if c2 == 0.0 || self.wave_amplitude == 0.0 {
+            return self.current_speed;
+        }
+        let w2 = w * w;
+        self.current_speed * (1.0 + 1.2 * (w2 / (c2 + w2)).powf(3.2)).sqrt()
+    }
+
+    /// The flow of one phase of the wave cycle, `s = sin(2 pi t / T)`, as a velocity `(u_x,
+    /// u_y)` in m/s whose quadratic stress `rho_w C_D |u|^2` along `u` is the bed stress of
+    /// current and waves together; `c` and `w` are the current's and the waves' directions,
+    /// radians. The stresses add as vectors, the current's raised by the waves (Soulsby 1997,
+    /// Eq. 69, [`RippleParams::mean_stress_speed`]) and the waves' quadratic in their
+    /// velocity: `tau(t) = tau_m e_c + tau_w s |s| e_w`, whose mean over the cycle is Eq. 69's
+    /// `tau_m` along the current and whose largest magnitude is Eq. 70's
+    /// `tau_max = sqrt((tau_m + tau_w cos phi)^2 + (tau_w sin phi)^2)`, `phi` the angle
+    /// between the current and the waves' axis, 0-90 deg (our reading of Eqs. 69-70 phase by
+    /// phase). A current alone gives
+    /// `U_c e_c`, waves alone `U'_w s e_w` (`U'_w` the [`RippleParams::wave_stress_amplitude`]),
+    /// each exactly as written. The rules, the step clock, the regime and Rubin & Hunter's
+    /// crest normal all take their flow from here.
+    pub fn combined_flow(&self, c: f64, w: f64, s: f64) -> (f64, f64) {
+        let cw = self.wave_stress_amplitude();
+        if self.current_speed == 0.0 || cw == 0.0 {
+            return (
+                self.current_speed * c.cos() + cw * s * w.cos(),
+                self.current_speed * c.sin() + cw * s * w.sin(),
+            );
+        }
+        let m = self.mean_stress_speed();
+        let (tm, tw) = (m * m, cw * cw * s * s.abs());
+        let (tx, ty) = (tm * c.cos() + tw * w.cos(), tm * c.sin() + tw * w.sin());
+        let t = tx.hypot(ty);
+        if t == 0.0 {
+            return (0.0, 0.0);
+        }
+        let u = t.sqrt();
+        (u * tx / t, u * ty / t)
     }
 
     /// The current's direction on the lattice, degrees (`current_angle - frame_angle`).
@@ -1274,6 +1323,94 @@ mod tests {
         ok.crest_suspension_hops = 5.0;
         assert!(ok.validate().is_ok());
         assert!(ok.crest_suspension_on() && ok.crest_suspension_m() == 0.0);
+    }
+
+    #[test]
+    fn combined_flow_soulsby_eq_69_70() {
+        use std::f64::consts::PI;
+        let (rho, cd, fw) = (1027.0, 0.0025, 0.0087);
+        let p = RippleParams {
+            current_speed: 0.6,
+            wave_amplitude: 0.3,
+            wave_period: 300.0,
+            wave_friction_factor: fw,
+            drag_coefficient: cd,
+            ..RippleParams::default()
+        };
+        // the stresses in pascals, written out
+        let tau_c = rho * cd * 0.6 * 0.6;
+        let tau_w = rho * 0.5 * fw * 0.3 * 0.3;
+        let tau_m = tau_c * (1.0 + 1.2 * (tau_w / (tau_c + tau_w)).powf(3.2));
+        let stress = |(ux, uy): (f64, f64)| rho * cd * ux.hypot(uy).powi(2);
+        // Eq. 69: the current's stress, raised by the waves
+        let m = p.mean_stress_speed();
+        assert!((rho * cd * m * m - tau_m).abs() < 1e-12 * tau_m, "{m}");
+        assert!(tau_m > tau_c);
+        for phi_deg in [0.0_f64, 30.0, 90.0, 150.0, 180.0] {
+            let (c, w) = (0.3_f64, 0.3 + phi_deg.to_radians());
+            // Eq. 70: the largest stress of the cycle (at the wave's crest or trough: the
+            // angle between the current and the waves' axis, 0-90 deg)
+            let phi = w - c;
+            let tau_max =
+                ((tau_m + tau_w * phi.cos().abs()).powi(2) + (tau_w * phi.sin()).powi(2)).sqrt();
+            let phases: Vec<f64> = (0..256)
+                .map(|k| (2.0 * PI * (k as f64 + 0.5) / 256.0).sin())
+                .collect();
+            let largest = phases
+                .iter()
+                .map(|&s| stress(p.combined_flow(c, w, s)))
+                .fold(0.0, f64::max);
+            let at_crests =
+                stress(p.combined_flow(c, w, 1.0)).max(stress(p.combined_flow(c, w, -1.0)));
+            assert!(
+                (at_crests - tau_max).abs() < 1e-12 * tau_max,
+                "{phi_deg}: {at_crests} {tau_max}"
+            );
+            assert!(largest <= at_crests * (1.0 + 1e-12));
+            // the cycle's mean stress vector is Eq. 69's, along the current
+            let (mut sx, mut sy) = (0.0, 0.0);
+            for &s in &phases {
+                let (ux, uy) = p.combined_flow(c, w, s);
+                let u = ux.hypot(uy);
+                sx += rho * cd * u * ux;
+                sy += rho * cd * u * uy;
+            }
+            let n = phases.len() as f64;
+            assert!(
+                (sx / n - tau_m * c.cos()).abs() < 1e-9,
+                "{phi_deg}: {}",
+                sx / n
+            );
+            assert!(
+                (sy / n - tau_m * c.sin()).abs() < 1e-9,
+                "{phi_deg}: {}",
+                sy / n
+            );
+        }
+        // aligned: softer on the bed than adding friction velocities would be
+        let aligned = stress(p.combined_flow(0.0, 0.0, 1.0));
+        let added = rho * cd * (0.6 + p.wave_stress_amplitude()).powi(2);
+        assert!(aligned < 0.8 * added, "{aligned} {added}");
+        // a current alone and waves alone, exactly as written
+        let current = RippleParams {
+            wave_amplitude: 0.0,
+            ..p.clone()
+        };
+        assert_eq!(
+            current.combined_flow(0.3, 1.0, 0.7),
+            (0.6 * 0.3_f64.cos(), 0.6 * 0.3_f64.sin())
+        );
+        assert_eq!(current.mean_stress_speed(), 0.6);
+        let waves = RippleParams {
+            current_speed: 0.0,
+            ..p.clone()
+        };
+        let a = waves.wave_stress_amplitude();
+        assert_eq!(
+            waves.combined_flow(0.3, 1.0, -0.7),
+            (a * -0.7 * 1.0_f64.cos(), a * -0.7 * 1.0_f64.sin())
+        );
+        assert_eq!(waves.mean_stress_speed(), 0.0);
     }
 
     #[test]

@@ -141,8 +141,8 @@ impl Prediction {
 
 /// Rubin & Hunter (1987): the crest normal (degrees counter-clockwise from east, in [0, 180))
 /// that makes the gross bedform-normal transport `sum_t |q(t) . n|` over a wave cycle
-/// largest, with `q(t)` the Meyer-Peter & Mueller bedload along the flow
-/// `U_c e_c + U_w sin(phi) e_w` (256 phases) of the run `p`; searched in steps of 0.1 deg.
+/// largest, with `q(t)` the Meyer-Peter & Mueller bedload along the flow of each of 256 phases
+/// of the run `p` ([`RippleParams::combined_flow`]); searched in steps of 0.1 deg.
 /// `None` when the flow moves no sand.
 pub fn rubin_hunter_crest_normal(p: &RippleParams) -> Option<f64> {
     let d = p.d50 * 1e-3;
@@ -156,8 +156,7 @@ pub fn rubin_hunter_crest_normal(p: &RippleParams) -> Option<f64> {
             } else {
                 0.0
             };
-            let ux = p.current_speed * c.cos() + p.wave_stress_amplitude() * s * w.cos();
-            let uy = p.current_speed * c.sin() + p.wave_stress_amplitude() * s * w.sin();
+            let (ux, uy) = p.combined_flow(c, w, s);
             let u = ux.hypot(uy);
             let qb = meyer_peter_mueller(shields(bed_shear_stress(u, p.drag_coefficient), d), d);
             (qb, uy.atan2(ux))

@@ -4,11 +4,14 @@
 //! **Bed shear stress.** The free-stream speed `u` gives `tau = rho_w C_D u^2` (the quadratic
 //! friction law of R. L. Soulsby (1997), *Dynamics of Marine Sands*, Thomas Telford, Eq. 30;
 //! `C_D` is the run's `drag_coefficient`, the same law the rules use for each grain class,
-//! [`super::grain`]). With a wave the stress is judged at the largest speed of the cycle,
-//! the larger of `|U_c e_c +- U'_w e_w|` (`|U_c| + U'_w` when they are aligned), with
-//! `U'_w = U_w sqrt(f_w / (2 C_D))` the wave amplitude that gives the waves' own stress
-//! `rho_w (f_w / 2) U_w^2` ([`RippleParams::wave_stress_amplitude`]; `U_w` itself when the run
-//! has no wave friction factor).
+//! [`super::grain`]). With a wave the stress is judged at the largest stress of the cycle, at
+//! the wave's crest or trough: alone, that of `U'_w = U_w sqrt(f_w / (2 C_D))`, the wave
+//! amplitude that gives the waves' own stress `tau_w = rho_w (f_w / 2) U_w^2`
+//! ([`RippleParams::wave_stress_amplitude`]; `U_w` itself when the run has no wave friction
+//! factor); with a current, Soulsby's (1997) Eq. 70, `tau_max = sqrt((tau_m + tau_w cos
+//! phi)^2 + (tau_w sin phi)^2)` with the current's stress raised by the waves, `tau_m`
+//! (Eq. 69), and `phi` the angle between the current and the waves' axis
+//! ([`RippleParams::combined_flow`]).
 //!
 //! **Shields number and threshold.** `theta = tau / ((rho_s - rho_w) g d50)` (Soulsby 1997,
 //! Eq. 74) against the threshold `theta_cr(D*)` of Soulsby's Eq. 77 ([`super::grain::theta_cr`]).
@@ -115,8 +118,7 @@ pub fn regime(p: &RippleParams) -> RegimeReport {
         [1.0, -1.0]
             .iter()
             .map(|s| {
-                let ux = p.current_speed * c.cos() + s * p.wave_stress_amplitude() * w.cos();
-                let uy = p.current_speed * c.sin() + s * p.wave_stress_amplitude() * w.sin();
+                let (ux, uy) = p.combined_flow(c, w, *s);
                 ux.hypot(uy)
             })
             .fold(0.0, f64::max)
@@ -183,6 +185,45 @@ mod tests {
         assert_eq!(at(hi * 0.999).regime, Regime::Ripples);
         assert_eq!(at(hi * 1.001).regime, Regime::SheetFlow);
         assert!(!mid.coarse);
+    }
+
+    #[test]
+    fn combined_flow_is_judged_by_soulsby_eq_70() {
+        // a 0.6 m/s current with 0.3 m/s waves of 6 s over 0.2 mm sand, at 0 and 60 deg
+        let d = 0.2e-3;
+        for phi in [0.0_f64, 60.0] {
+            let p = RippleParams {
+                d50: 0.2,
+                current_speed: 0.6,
+                wave_amplitude: 0.3,
+                wave_period: 300.0,
+                wave_angle: Some(phi),
+                wave_friction_factor: crate::ripple::waves::run_wave_friction_factor(
+                    0.3, 6.0, d, 0.0025,
+                ),
+                drag_coefficient: 0.0025,
+                ..RippleParams::default()
+            };
+            let tau_c = RHO_W * 0.0025 * 0.36;
+            let tau_w = RHO_W * 0.5 * p.wave_friction_factor * 0.09;
+            let tau_m = tau_c * (1.0 + 1.2 * (tau_w / (tau_c + tau_w)).powf(3.2));
+            let phi = phi.to_radians();
+            let tau_max =
+                ((tau_m + tau_w * phi.cos()).powi(2) + (tau_w * phi.sin()).powi(2)).sqrt();
+            let r = regime(&p);
+            assert!(
+                (r.bed_shear_stress - tau_max).abs() < 1e-9 * tau_max,
+                "{r:?} {tau_max}"
+            );
+            assert!((r.shields - shields(tau_max, d)).abs() < 1e-12);
+            // ripples: adding the friction velocities would have been sheet flow
+            assert_eq!(r.regime, Regime::Ripples, "{r:?}");
+            let added = RHO_W * 0.0025 * (0.6 + p.wave_stress_amplitude()).powi(2);
+            assert!(
+                shields(added, d) > THETA_SHEET_FLOW && r.shields < 0.5,
+                "{r:?}"
+            );
+        }
     }
 
     #[test]

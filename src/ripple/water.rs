@@ -7,9 +7,12 @@
 //! steady current `U_c` plus an oscillating (wave) component of amplitude
 //! `U_w` and period `T` steps (for the bed stress, `U_w sqrt(f_w / (2 C_D))` when the run
 //! has a wave friction factor: [`RippleParams::wave_stress_amplitude`]); with a `wave_angle`
-//! of their own, the vector sum
-//! `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs the other way (angle + 180 deg),
-//! so a pure wave (`U_c = 0`) pushes equally both ways and gives symmetric ripples.
+//! of their own, along `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs
+//! the other way (angle + 180 deg), so a pure wave (`U_c = 0`) pushes equally both ways and
+//! gives symmetric ripples. With both a current and waves, their bed stresses add as vectors,
+//! the current's raised by the waves (R. L. Soulsby (1997), *Dynamics of Marine Sands*, Eqs.
+//! 69-70 phase by phase: [`RippleParams::combined_flow`]), and the flow of the step is the
+//! speed that rubs the bed as hard, along that stress.
 //!
 //! **Slices** ([`crate::ripple::Abstraction::Slices`]). The water above the bed is cut into
 //! horizontal slices `slice_layers` automata thick; slice `j` lies at level `z_j = j x
@@ -81,27 +84,46 @@ pub struct Flow {
 impl Flow {
     /// The flow at step `t` (2-D mode keeps it along +-x).
     pub fn at(p: &RippleParams, t: u64, two_d: bool) -> Flow {
-        let wave = if p.wave_period > 0.0 {
-            p.wave_stress_amplitude() * (2.0 * PI * (t as f64 + 0.5) / p.wave_period).sin()
+        let phase = if p.wave_period > 0.0 {
+            (2.0 * PI * (t as f64 + 0.5) / p.wave_period).sin()
         } else {
             0.0
         };
-        let v = p.current_speed + wave;
         // 2-D: the section runs along the current, towards +x (0 deg) or -x (180 deg).
         let base = if two_d {
             if p.section_forward() { 0.0 } else { PI }
         } else {
             p.lattice_current_angle().to_radians()
         };
-        let (v, angle) = match p.lattice_wave_angle().filter(|_| !two_d) {
-            // waves at their own angle: the vector sum of current and wave
-            Some(wa) => {
-                let wa = wa.to_radians();
-                let ux = p.current_speed * base.cos() + wave * wa.cos();
-                let uy = p.current_speed * base.sin() + wave * wa.sin();
+        let wave_angle = p.lattice_wave_angle().filter(|_| !two_d);
+        let (v, angle) = if p.current_speed > 0.0 && p.wave_amplitude > 0.0 && p.wave_period > 0.0 {
+            // current and waves: their stresses add (Soulsby's Eqs. 69-70, phase by phase)
+            let wa = wave_angle.map_or(base, f64::to_radians);
+            let (ux, uy) = p.combined_flow(base, wa, phase);
+            // along the current's axis the flow keeps its sign, as a current or waves alone
+            if wave_angle.is_none() {
+                let along = ux * base.cos() + uy * base.sin();
+                (along, if along < 0.0 { base + PI } else { base })
+            } else {
                 (ux.hypot(uy), uy.atan2(ux))
             }
-            None => (v, if v < 0.0 { base + PI } else { base }),
+        } else {
+            let wave = if p.wave_period > 0.0 {
+                p.wave_stress_amplitude() * phase
+            } else {
+                0.0
+            };
+            let v = p.current_speed + wave;
+            match wave_angle {
+                // waves at their own angle: the vector sum of current and wave
+                Some(wa) => {
+                    let wa = wa.to_radians();
+                    let ux = p.current_speed * base.cos() + wave * wa.cos();
+                    let uy = p.current_speed * base.sin() + wave * wa.sin();
+                    (ux.hypot(uy), uy.atan2(ux))
+                }
+                None => (v, if v < 0.0 { base + PI } else { base }),
+            }
         };
         let angle = angle.rem_euclid(2.0 * PI);
         let octant = (angle / (PI / 4.0)).rem_euclid(8.0);
@@ -777,7 +799,7 @@ mod tests {
     }
 
     #[test]
-    fn waves_at_their_own_angle_add_to_the_current_as_vectors() {
+    fn waves_at_their_own_angle_add_to_the_current_by_their_stresses() {
         let p = RippleParams {
             current_speed: 0.3,
             current_angle: 0.0,
@@ -788,16 +810,20 @@ mod tests {
             frame: crate::ripple::Frame::Grid,
             ..RippleParams::default()
         };
+        // stresses in units of rho_w C_D: the current's raised by the waves (Soulsby 1997,
+        // Eq. 69), the waves' quadratic in their velocity, added as vectors
+        let tm = 0.09 * (1.0 + 1.2 * (0.16f64 / (0.09 + 0.16)).powf(3.2));
         for t in 0..8u64 {
             let f = Flow::at(&p, t, false);
-            let w = 0.4 * (2.0 * PI * (t as f64 + 0.5) / 8.0).sin();
-            assert!((f.speed - 0.3f64.hypot(w)).abs() < 1e-12, "{t}");
+            let s = (2.0 * PI * (t as f64 + 0.5) / 8.0).sin();
+            let tw = 0.16 * s * s.abs();
+            assert!((f.speed - tm.hypot(tw).sqrt()).abs() < 1e-12, "{t}");
             assert!(
-                (f.angle - w.atan2(0.3).rem_euclid(2.0 * PI)).abs() < 1e-12,
+                (f.angle - tw.atan2(tm).rem_euclid(2.0 * PI)).abs() < 1e-12,
                 "{t}"
             );
         }
-        // along the current, the vector sum is the scalar one of the paper
+        // along the current, the vector sum is the scalar one
         let q = RippleParams {
             wave_angle: Some(0.0),
             ..p.clone()
