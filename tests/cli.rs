@@ -464,4 +464,29 @@ fn frames_and_series_beyond_the_timesteps_are_one_a_timestep_and_said() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && !err.contains("warning"), "{err}");
     assert_eq!(common::gif_frames(&gif), 11, "{err}");
+    // a scenario's series is the user's too (a scenario without one keeps the scene's)
+    let with = tmp("ten_series.toml");
+    let without = tmp("ten_no_series.toml");
+    std::fs::write(&with, "scene = \"grow\"\nsteps = 10\nseries = 100\n").unwrap();
+    std::fs::write(&without, "scene = \"grow\"\nsteps = 10\n").unwrap();
+    let scenario = |file: &std::path::Path| {
+        let o = common::cellsurf(&[
+            "grow",
+            "--scenario",
+            file.to_str().unwrap(),
+            "--size",
+            "16",
+            "--out",
+            c,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let err = scenario(&with);
+    assert!(
+        err.contains("the scenario's series = 100 is more than the run's 10 timesteps"),
+        "{err}"
+    );
+    let err = scenario(&without);
+    assert!(!err.contains("warning"), "{err}");
 }

@@ -324,10 +324,12 @@ fn gather_parts(dir: &Path, seeds: usize) -> Result<Vec<converge::RunRecord>> {
     Ok(records)
 }
 
-/// The configuration: scenario file or scene defaults, then each given option.
-fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
+/// The configuration: scenario file or scene defaults, then each given option; and whether the
+/// scenario file gave `series`.
+fn config(scene: SceneKind, a: &GrowArgs) -> Result<(SceneConfig, bool)> {
     // Whether the snapshots are the user's (from the scenario file), not the defaults.
     let mut scenario_snapshots = false;
+    let mut scenario_series = false;
     let mut c = match &a.scenario {
         Some(p) => {
             let text = std::fs::read_to_string(p)
@@ -336,6 +338,9 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
             let (c, snaps) = SceneConfig::parse_toml(&text)
                 .with_context(|| format!("in --scenario {}", p.display()))?;
             scenario_snapshots = snaps;
+            scenario_series = text
+                .parse::<toml::Table>()
+                .is_ok_and(|t| t.contains_key("series"));
             // `grow` runs any scene's scenario; a named scene runs only its own.
             if c.scene != scene && scene != SceneKind::Grow {
                 bail!(
@@ -425,7 +430,7 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<SceneConfig> {
     // (n = -0 is n = 0: recorded as 0 in every output, not as -0)
     c.n += 0.0;
     c.validate().map_err(|e| name_default(e, a))?;
-    Ok(c)
+    Ok((c, scenario_series && a.series.is_none()))
 }
 
 /// A parameter out of range that the user did not type (neither on the command line nor
@@ -572,7 +577,7 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         ("lattice height", "size"),
     ]);
     conv::set_quiet(a.quiet);
-    let cfg = config(scene, &a)?;
+    let (cfg, scenario_series) = config(scene, &a)?;
     let scene = cfg.scene;
     if a.print_scenario {
         out!(
@@ -635,23 +640,28 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
     };
     // (frames and series points fall on whole timesteps: a run of fewer timesteps than asked
     // for has one a timestep, and says so where they were typed)
-    let fewer = |what: &str, asked: usize, file: &str, unit: &str| {
+    let fewer = |what: &str, asked: usize, file: &str, unit: &str, from_scenario: bool| {
         // (a default the user did not ask for is not warned of)
-        if !by_events && asked as u64 > cfg.steps && conv::typed(what) {
+        if !by_events && asked as u64 > cfg.steps && (conv::typed(what) || from_scenario) {
             conv::changed(format_args!(
                 "warning: {} = {asked} is more than the run's {} timesteps: the {file} has one \
                  {unit} a timestep, {} in all",
-                conv::typed_flag(what).unwrap_or_else(|| format!("--{}", what.replace('_', "-"))),
+                if from_scenario {
+                    format!("the scenario's {what}")
+                } else {
+                    conv::typed_flag(what)
+                        .unwrap_or_else(|| format!("--{}", what.replace('_', "-")))
+                },
                 cfg.steps,
                 cfg.steps + 1
             ));
         }
     };
     if outs.get(Format::Csv).is_some() {
-        fewer("series", cfg.series, ".csv", "row");
+        fewer("series", cfg.series, ".csv", "row", scenario_series);
     }
     let frames = if gif.is_some() && !by_events {
-        fewer("gif_frames", a.gif_frames, ".gif", "frame");
+        fewer("gif_frames", a.gif_frames, ".gif", "frame", false);
         let k = a.gif_frames.max(1) as u64;
         let mut f: Vec<f64> = (0..=k)
             .map(|i| (cfg.steps as u128 * i as u128 / k as u128) as f64)

@@ -861,13 +861,18 @@ fn params_from(
         if let Some(own) = expected_wavelength(&p) {
             let ratio = own / sw.wavelength;
             if ratio.is_finite() && !(0.8..=1.2).contains(&ratio) {
+                // (as many digits as show the ratio outside the band: 0.7996 is not "0.80")
+                let shown = (2..=6)
+                    .map(|d| format!("{ratio:.d$}"))
+                    .find(|s| s.parse::<f64>().is_ok_and(|r| !(0.8..=1.2).contains(&r)))
+                    .unwrap_or_else(|| ratio.to_string());
                 conv::note(format_args!(
-                    "warning: the recipe {}'s ripples come to about {TRAVELS_PER_WAVELENGTH} flat-bed travels of the median grain (59-70 measured): here {TRAVELS_PER_WAVELENGTH} x {} m = {} m at --current-speed = {} m/s, {:.2} times the {} m of {} for --d50 = {} mm, outside the 20 % it meets at 0.1-0.4 mm and 0.5 m/s; the travel grows with the current and, at a fixed current, stops growing with the grain above about 0.5 mm, where nature's equilibrium current ripples follow the grain alone (docs/ripple.md, \"The current's speed and the grain\")",
+                    "warning: the recipe {}'s ripples come to about {TRAVELS_PER_WAVELENGTH} flat-bed travels of the median grain (59-70 measured): here {TRAVELS_PER_WAVELENGTH} x {} m = {} m at --current-speed = {} m/s, {} times the {} m of {} for --d50 = {} mm, outside the 20 % it meets at 0.1-0.4 mm and 0.5 m/s; the travel grows with the current and, at a fixed current, stops growing with the grain above about 0.5 mm, where nature's equilibrium current ripples follow the grain alone (docs/ripple.md, \"The current's speed and the grain\")",
                     Recipe::MatureCurrent,
                     cellsurf::ripple::params::rounded(own / TRAVELS_PER_WAVELENGTH),
                     cellsurf::ripple::params::rounded(own),
                     p.current_speed,
-                    ratio,
+                    shown,
                     cellsurf::ripple::params::rounded(sw.wavelength),
                     sw.source,
                     p.d50
