@@ -1577,3 +1577,58 @@ fn value_stability_of_default_ripple_runs() {
     assert_eq!(three_d, (1_579_902, 74_478, 8698));
     assert_eq!(two_d, (23_891, 9825, 4314));
 }
+
+/// The regime, the step clock, the rules and Rubin & Hunter's normal take one flow for a current
+/// with waves (`RippleParams::combined_flow`), and none of them counts waves without a period.
+#[test]
+fn the_regime_the_clock_and_the_rules_see_one_combined_flow() {
+    use cellsurf::ripple::clock::phase_speeds;
+    use cellsurf::ripple::predictors::rubin_hunter_crest_normal;
+    use cellsurf::ripple::regime::regime;
+    use cellsurf::ripple::water::Flow;
+    let p = RippleParams {
+        d50: 0.2,
+        current_speed: 0.4,
+        current_angle: 0.0,
+        wave_amplitude: 0.3,
+        wave_period: 64.0,
+        wave_angle: Some(50.0),
+        wave_friction_factor: 0.01,
+        frame: cellsurf::ripple::Frame::Grid,
+        ..RippleParams::default()
+    };
+    let (c, w) = (0.0_f64, 50.0_f64.to_radians());
+    let magnitude = |s: f64| {
+        let (ux, uy) = p.combined_flow(c, w, s);
+        ux.hypot(uy)
+    };
+    // the regime: the largest speed of the cycle, at the wave's crest or trough
+    let r = regime(&p);
+    assert!((r.speed - magnitude(1.0).max(magnitude(-1.0))).abs() < 1e-12);
+    // the clock's phases and the rules' steps: the same flow, never above the regime's
+    for (k, &v) in phase_speeds(&p).iter().enumerate() {
+        let s = (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / 64.0).sin();
+        assert!((v - magnitude(s)).abs() < 1e-12 && v <= r.speed, "{k}");
+    }
+    for t in 0..64u64 {
+        let s = (2.0 * std::f64::consts::PI * (t as f64 + 0.5) / 64.0).sin();
+        let f = Flow::at(&p, t, false);
+        assert!((f.speed - magnitude(s)).abs() < 1e-12, "{t}");
+    }
+    // an orbital velocity without a period moves nothing: the current alone everywhere
+    let still = RippleParams {
+        wave_period: 0.0,
+        ..p.clone()
+    };
+    let alone = RippleParams {
+        wave_amplitude: 0.0,
+        ..p.clone()
+    };
+    assert_eq!(regime(&still), regime(&alone));
+    assert_eq!(phase_speeds(&still), vec![0.4]);
+    assert_eq!(Flow::at(&still, 3, false).speed, 0.4);
+    assert_eq!(
+        rubin_hunter_crest_normal(&still),
+        rubin_hunter_crest_normal(&alone)
+    );
+}

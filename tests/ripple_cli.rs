@@ -261,6 +261,44 @@ fn regimes_no_motion_ripples_and_sheet_flow() {
         "{err}"
     );
     assert!(!err.contains("panicked"));
+    // current and waves: the bed stress of Soulsby's Eq. 70 judges them, and the refusal
+    // names the flow whose stress dominates (0.2 mm sand: sheet flow from 0.996 m/s)
+    let both = |current: &str, waves: &str| {
+        let mut args = SMALL.to_vec();
+        args.extend([
+            "--json",
+            "--current-speed",
+            current,
+            "--wave-velocity",
+            waves,
+            "--wave-period",
+            "6s",
+        ]);
+        cellsurf(&args)
+    };
+    // a 0.97 m/s current with weak waves: sheet flow by the two together, the current's
+    let o = both("0.97", "0.2");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("sheet flow") && err.contains("--current-speed = 0.97 m/s is out of range"),
+        "{err}"
+    );
+    // a slower current with weaker waves: ripples (adding friction velocities made it sheet
+    // flow, a largest speed of 1.16 m/s, and named --wave-velocity)
+    let o = both("0.9", "0.17");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regime"], "ripples", "{err}");
+    // waves that dominate: theirs
+    let o = both("0.2", "1.0");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("sheet flow") && err.contains("--wave-velocity = 1 m/s is out of range"),
+        "{err}"
+    );
 }
 
 /// `--duration` sets the steps from the step duration of the transport law; `--until

@@ -122,6 +122,15 @@ pub fn given_flags(flags: &[(&str, &str, bool)]) -> Vec<String> {
         .collect()
 }
 
+/// A value outside the band `[lo, hi]` to as few digits (2 to 6 decimals) as show it outside:
+/// `0.7996` against `[0.8, 1.2]` is `0.7996`, not `0.80`; `0.5` is `0.50`.
+pub fn shown_outside(v: f64, lo: f64, hi: f64) -> String {
+    (2..=6)
+        .map(|d| format!("{v:.d$}"))
+        .find(|s| s.parse::<f64>().is_ok_and(|r| !(lo..=hi).contains(&r)))
+        .unwrap_or_else(|| v.to_string())
+}
+
 /// The command line with a negative infinity or NaN given as an option's value joined to it
 /// (`--n -inf` read as `--n=-inf`, `-q -nan` as `-q=-nan`, `--snapshots -inf,5` as
 /// `--snapshots=-inf,5`): the parser takes `-inf` for short flags otherwise, and refuses it
@@ -1441,6 +1450,17 @@ fn flagged(msg: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    /// A ratio just outside its band is shown with the digits that put it outside.
+    #[test]
+    fn values_outside_a_band_show_it() {
+        use super::shown_outside;
+        assert_eq!(shown_outside(0.7996, 0.8, 1.2), "0.7996");
+        assert_eq!(shown_outside(1.2004, 0.8, 1.2), "1.2004");
+        assert_eq!(shown_outside(0.5, 0.8, 1.2), "0.50");
+        assert_eq!(shown_outside(1.8043, 0.8, 1.2), "1.80");
+        assert_eq!(shown_outside(0.79999999, 0.8, 1.2), "0.79999999");
+    }
 
     /// `-inf`, `-infinity` and `-nan` after a long option are joined to it; after anything
     /// else, and every other word, are left as they are.

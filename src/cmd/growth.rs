@@ -335,12 +335,10 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<(SceneConfig, bool)> {
             let text = std::fs::read_to_string(p)
                 .with_context(|| format!("cannot read --scenario {}", p.display()))?;
             // Checked once the command line has overridden it (below).
-            let (c, snaps) = SceneConfig::parse_toml(&text)
+            let (c, given) = SceneConfig::parse_toml(&text)
                 .with_context(|| format!("in --scenario {}", p.display()))?;
-            scenario_snapshots = snaps;
-            scenario_series = text
-                .parse::<toml::Table>()
-                .is_ok_and(|t| t.contains_key("series"));
+            scenario_snapshots = given.snapshots;
+            scenario_series = given.series;
             // `grow` runs any scene's scenario; a named scene runs only its own.
             if c.scene != scene && scene != SceneKind::Grow {
                 bail!(

@@ -862,10 +862,7 @@ fn params_from(
             let ratio = own / sw.wavelength;
             if ratio.is_finite() && !(0.8..=1.2).contains(&ratio) {
                 // (as many digits as show the ratio outside the band: 0.7996 is not "0.80")
-                let shown = (2..=6)
-                    .map(|d| format!("{ratio:.d$}"))
-                    .find(|s| s.parse::<f64>().is_ok_and(|r| !(0.8..=1.2).contains(&r)))
-                    .unwrap_or_else(|| ratio.to_string());
+                let shown = conv::shown_outside(ratio, 0.8, 1.2);
                 conv::note(format_args!(
                     "warning: the recipe {}'s ripples come to about {TRAVELS_PER_WAVELENGTH} flat-bed travels of the median grain (59-70 measured): here {TRAVELS_PER_WAVELENGTH} x {} m = {} m at --current-speed = {} m/s, {} times the {} m of {} for --d50 = {} mm, outside the 20 % it meets at 0.1-0.4 mm and 0.5 m/s; the travel grows with the current and, at a fixed current, stops growing with the grain above about 0.5 mm, where nature's equilibrium current ripples follow the grain alone (docs/ripple.md, \"The current's speed and the grain\")",
                     Recipe::MatureCurrent,
@@ -1009,9 +1006,9 @@ pub fn model_stuck_reason(p: &RippleParams, speed: f64, beta_flag: &str) -> Stri
     }
 }
 
-/// The flag that sets the largest flow speed, and what else adds to it: the waves' (with their
-/// friction factor) where they reach sheet flow on their own or dominate, the current's
-/// otherwise.
+/// The flag that sets the largest flow speed, and what else adds to it: the current's where it
+/// reaches sheet flow on its own or its bed stress dominates the waves'
+/// ([`RippleParams::waves_dominate`]), the waves' (with their friction factor) otherwise.
 fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
     let current = format!("--current-speed = {} m/s", p.current_speed);
     if p.wave_amplitude == 0.0 {
@@ -1054,7 +1051,7 @@ fn flow_cause(a: &Args, p: &RippleParams) -> (String, String) {
         wave_amplitude: 0.0,
         ..p.clone()
     });
-    if current_alone.regime == Regime::SheetFlow {
+    if current_alone.regime == Regime::SheetFlow || (p.current_speed > 0.0 && !p.waves_dominate()) {
         (current, format!("with {wave_flag}: {waves}"))
     } else if p.current_speed > 0.0 {
         (wave_flag, format!("{waves}, with {current}"))

@@ -336,6 +336,17 @@ pub const CA_RULE: &str =
 pub const SIZE_SIDES: &str = "sides of 1 to 2^20 cells (at least 3 along a periodic axis, rows \
      even on a hex torus), at most 2^28 - 1 = 268435455 cells in all";
 
+/// Which keys a scenario file gave whose defaults the command line adjusts to the run: the
+/// scene's default `snapshots` are fitted to the steps, and a `series` longer than the run is
+/// warned of only where the user asked for it ([`SceneConfig::parse_toml`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Given {
+    /// The file gave `snapshots`.
+    pub snapshots: bool,
+    /// The file gave `series`.
+    pub series: bool,
+}
+
 impl SceneConfig {
     /// The defaults of a scene, chosen so that the figures show what the paper describes
     /// (the paper gives no lattice sizes):
@@ -423,10 +434,11 @@ impl SceneConfig {
     }
 
     /// Reads a scenario file as [`SceneConfig::from_toml`] does, without checking the ranges
-    /// (the command line may still override what is out of range), and says whether the file
-    /// gave `snapshots`. A file that sets `steps` but no `snapshots` keeps the scene's default
-    /// snapshots up to `steps`, and `steps` itself.
-    pub fn parse_toml(text: &str) -> Result<(Self, bool), SceneError> {
+    /// (the command line may still override what is out of range), and says which of the keys
+    /// whose defaults the command line adjusts the file gave ([`Given`]). A file that sets
+    /// `steps` but no `snapshots` keeps the scene's default snapshots up to `steps`, and
+    /// `steps` itself.
+    pub fn parse_toml(text: &str) -> Result<(Self, Given), SceneError> {
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| SceneError::Toml(e.to_string()))?;
@@ -450,7 +462,11 @@ impl SceneConfig {
         let mut merged = base.clone();
         let mut table = table;
         whole_numbers(&mut table)?;
-        let snapshots_given = table.contains_key("snapshots");
+        let given = Given {
+            snapshots: table.contains_key("snapshots"),
+            series: table.contains_key("series"),
+        };
+        let snapshots_given = given.snapshots;
         let steps_given = table.contains_key("steps");
         for (k, v) in table {
             // (a value of the wrong kind is named by its key, with what the key takes)
@@ -469,7 +485,7 @@ impl SceneConfig {
         if steps_given && !snapshots_given {
             cfg.fit_snapshots_to_steps();
         }
-        Ok((cfg, snapshots_given))
+        Ok((cfg, given))
     }
 
     /// Keeps the snapshots within `steps` and adds `steps` itself (for default snapshots
@@ -1308,7 +1324,16 @@ mod tests {
         // Alone, a file's steps = 100 is out of reach of the default snapshots (up to 50,000):
         // they are fitted to the run, as --steps fits them.
         let (c, given) = SceneConfig::parse_toml("scene = \"flame\"\nsteps = 100\n").unwrap();
-        assert!(!given);
+        assert_eq!(
+            given,
+            Given {
+                snapshots: false,
+                series: false
+            }
+        );
+        let (_, given) =
+            SceneConfig::parse_toml("scene = \"flame\"\nseries = 7\nsnapshots = [5]\n").unwrap();
+        assert!(given.snapshots && given.series);
         assert_eq!(c.snapshots.last(), Some(&100));
         assert!(c.snapshots.iter().all(|&t| t <= 100));
         c.validate().unwrap();

@@ -79,15 +79,10 @@ pub fn model_threshold_speeds(p: &RippleParams) -> (f64, f64) {
     (finest, model_threshold_speed(p, p.d50 * 1e-3))
 }
 
-/// Whether the run has a wave.
-fn has_wave(p: &RippleParams) -> bool {
-    p.wave_period > 0.0 && p.wave_amplitude > 0.0
-}
-
 /// The free-stream speeds of the phases a run's flux is averaged over: the current alone, or
 /// 64 phases of the wave cycle (the magnitude of [`RippleParams::combined_flow`]).
 pub fn phase_speeds(p: &RippleParams) -> Vec<f64> {
-    if !has_wave(p) {
+    if !p.has_wave() {
         return vec![p.current_speed.abs()];
     }
     let c = p.lattice_current_angle().to_radians();
@@ -231,7 +226,7 @@ fn patch(p: &RippleParams) -> RippleParams {
         nx,
         ny,
         roughness: 0,
-        wave_period: if has_wave(p) { PHASES as f64 } else { 0.0 },
+        wave_period: if p.has_wave() { PHASES as f64 } else { 0.0 },
         until: None,
         ..p.clone()
     }
@@ -255,7 +250,7 @@ pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
     let eps = porosity(r.compaction().initial_code());
     // the wave's phases: step k of the patch's 64-step period is phase (k + 1/2) / 64, whatever
     // the run's period (so the step duration does not depend on it)
-    let phases: Vec<u64> = if has_wave(p) {
+    let phases: Vec<u64> = if p.has_wave() {
         (0..PHASES).collect()
     } else {
         vec![0]

@@ -148,10 +148,10 @@ pub fn rubin_hunter_crest_normal(p: &RippleParams) -> Option<f64> {
     let d = p.d50 * 1e-3;
     let c = p.current_angle.to_radians();
     let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
-    let phases = if p.wave_amplitude > 0.0 { 256 } else { 1 };
+    let phases = if p.has_wave() { 256 } else { 1 };
     let q: Vec<(f64, f64)> = (0..phases)
         .map(|k| {
-            let s = if p.wave_amplitude > 0.0 {
+            let s = if p.has_wave() {
                 (2.0 * std::f64::consts::PI * (k as f64 + 0.5) / phases as f64).sin()
             } else {
                 0.0

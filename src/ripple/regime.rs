@@ -74,8 +74,8 @@ impl Regime {
 pub struct RegimeReport {
     /// The regime.
     pub regime: Regime,
-    /// The largest speed of the run, m/s, that gives the bed stress through `C_D` (`|U_c| + U'_w`
-    /// when aligned: module docs).
+    /// The largest speed of the run, m/s, that gives the bed stress through `C_D` (that of
+    /// Soulsby's Eq. 70 with a current and waves: module docs).
     pub speed: f64,
     /// Bed shear stress at that speed, Pa.
     pub bed_shear_stress: f64,
@@ -112,7 +112,7 @@ pub fn regime(p: &RippleParams) -> RegimeReport {
     let d = p.d50 * 1e-3;
     let cd = p.drag_coefficient;
     // the largest speed of the cycle: at the wave's crest or trough
-    let speed = if p.wave_amplitude > 0.0 {
+    let speed = if p.has_wave() {
         let c = p.current_angle.to_radians();
         let w = p.wave_angle.unwrap_or(p.current_angle).to_radians();
         [1.0, -1.0]

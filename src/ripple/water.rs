@@ -2,12 +2,12 @@
 //! the paper's Sect. 2.3, which decides which grains are exposed and how fast the water is at
 //! the bed.
 //!
-//! **Flow.** The free-stream velocity at step `t` is `(U_c + U_w sin(2 pi t / T))` along
-//! `current_angle` (on the lattice: less the frame's angle, [`RippleParams::frame_angle`]): a
-//! steady current `U_c` plus an oscillating (wave) component of amplitude
-//! `U_w` and period `T` steps (for the bed stress, `U_w sqrt(f_w / (2 C_D))` when the run
-//! has a wave friction factor: [`RippleParams::wave_stress_amplitude`]); with a `wave_angle`
-//! of their own, along `U_c e_c + U_w sin(2 pi t / T) e_w`. When it is negative the flow runs
+//! **Flow.** The free-stream velocity at step `t` is, for a current or waves alone, `(U_c + U_w
+//! sin(2 pi t / T))` along `current_angle` (on the lattice: less the frame's angle,
+//! [`RippleParams::frame_angle`]): a steady current `U_c`, or an oscillating (wave) component
+//! of amplitude `U_w` and period `T` steps (for the bed stress, `U_w sqrt(f_w / (2 C_D))` when the run
+//! has a wave friction factor: [`RippleParams::wave_stress_amplitude`]), waves alone along their
+//! own `wave_angle` where they have one. When it is negative the flow runs
 //! the other way (angle + 180 deg), so a pure wave (`U_c = 0`) pushes equally both ways and
 //! gives symmetric ripples. With both a current and waves, their bed stresses add as vectors,
 //! the current's raised by the waves (R. L. Soulsby (1997), *Dynamics of Marine Sands*, Eqs.
@@ -96,7 +96,7 @@ impl Flow {
             p.lattice_current_angle().to_radians()
         };
         let wave_angle = p.lattice_wave_angle().filter(|_| !two_d);
-        let (v, angle) = if p.current_speed > 0.0 && p.wave_amplitude > 0.0 && p.wave_period > 0.0 {
+        let (v, angle) = if p.current_speed > 0.0 && p.has_wave() {
             // current and waves: their stresses add (Soulsby's Eqs. 69-70, phase by phase)
             let wa = wave_angle.map_or(base, f64::to_radians);
             let (ux, uy) = p.combined_flow(base, wa, phase);
@@ -115,7 +115,7 @@ impl Flow {
             };
             let v = p.current_speed + wave;
             match wave_angle {
-                // waves at their own angle: the vector sum of current and wave
+                // waves alone at their own angle (no current)
                 Some(wa) => {
                     let wa = wa.to_radians();
                     let ux = p.current_speed * base.cos() + wave * wa.cos();
@@ -823,7 +823,7 @@ mod tests {
                 "{t}"
             );
         }
-        // along the current, the vector sum is the scalar one
+        // along the current, the stresses' vector sum is the scalar one
         let q = RippleParams {
             wave_angle: Some(0.0),
             ..p.clone()
@@ -836,6 +836,31 @@ mod tests {
             let (a, b) = (Flow::at(&q, t, false), Flow::at(&r, t, false));
             assert!((a.speed - b.speed).abs() < 1e-12 && (a.angle - b.angle).abs() < 1e-12);
         }
+        // a 2-D section, forward (current east) and backward (current west): the stresses add
+        // along it, and the flow reverses where the waves' stress exceeds the current's
+        let tm = 0.09 * (1.0 + 1.2 * (0.25f64 / (0.09 + 0.25)).powf(3.2));
+        let mut reversed = 0;
+        for (current_angle, forward) in [(0.0, 0.0), (180.0, PI)] {
+            let q = RippleParams {
+                current_angle,
+                wave_amplitude: 0.5,
+                mode: crate::ripple::Mode::TwoD,
+                frame: crate::ripple::Frame::Flow,
+                ..r.clone()
+            };
+            for t in 0..8u64 {
+                let s = (2.0 * PI * (t as f64 + 0.5) / 8.0).sin();
+                let along = tm + 0.25 * s * s.abs();
+                reversed += usize::from(along < 0.0);
+                let f = Flow::at(&q, t, true);
+                assert!((f.speed - along.abs().sqrt()).abs() < 1e-12, "{t}");
+                let want = if along < 0.0 { forward + PI } else { forward };
+                assert!((f.angle - want.rem_euclid(2.0 * PI)).abs() < 1e-12, "{t}");
+                assert_eq!(f.along_row, Some(f.angle == 0.0), "{t}");
+            }
+        }
+        // (two phases a cycle on each section)
+        assert_eq!(reversed, 4);
     }
 
     #[test]
