@@ -1401,3 +1401,60 @@ fn a_scenarios_option_for_another_profile_is_warned_of() {
         "{e}"
     );
 }
+
+/// A 2-D ripple section is one row: a cut along it is traced, a cut across it (which would be a
+/// floor of one height) is refused, naming `--azimuth`.
+#[test]
+fn a_cut_across_a_two_d_section_is_refused() {
+    let nc = tmp("section.nc");
+    let o = cellsurf(&[
+        "ripple",
+        "--size",
+        "64x1",
+        "--layers",
+        "10",
+        "--steps",
+        "100",
+        "--quiet",
+        "--out",
+        nc.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let trace = |azimuth: &str| {
+        cellsurf(&[
+            "raytrace",
+            "--rays",
+            "20",
+            "--water-depth",
+            "0.5",
+            "--source-depth",
+            "0.3",
+            "--length",
+            "0.1",
+            "--seafloor",
+            nc.to_str().unwrap(),
+            "--azimuth",
+            azimuth,
+            "--quiet",
+        ])
+    };
+    for along in ["0", "180", "-180"] {
+        let o = trace(along);
+        assert!(
+            o.status.success(),
+            "{along}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    for across in ["90", "30", "-45"] {
+        let o = trace(across);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{across}: {e}");
+        assert!(
+            e.starts_with(&format!(
+                "error: --azimuth = {across} deg crosses the seafloor, a 2-D section"
+            )),
+            "{e}"
+        );
+    }
+}

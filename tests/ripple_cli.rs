@@ -1925,3 +1925,166 @@ fn predictions_are_null_where_the_flow_moves_no_grain() {
     let w = v["predicted_wavelength_m"].as_f64().unwrap();
     assert!((w - 0.1459).abs() < 1e-3, "{w}");
 }
+
+/// A `.npy` set written over an earlier one is the new run's alone: the earlier run's fields
+/// that the new one does not write are removed, so the sidecar lists every file beside it.
+#[test]
+fn an_earlier_runs_npy_fields_are_not_left_beside_a_new_one() {
+    let out = tmp("stale.npy");
+    let run = |fields: &str| {
+        let mut args = SMALL.to_vec();
+        args.extend([
+            "--quiet",
+            "--fields",
+            fields,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let o = cellsurf(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run("elevation,porosity,impedance");
+    assert!(tmp("stale_porosity.npy").exists() && tmp("stale_impedance.npy").exists());
+    run("elevation,impedance");
+    assert!(!tmp("stale_porosity.npy").exists());
+    assert!(tmp("stale.npy").exists() && tmp("stale_impedance.npy").exists());
+    let side = std::fs::read_to_string(tmp("stale.json")).unwrap();
+    assert!(side.contains("\"impedance\"") && !side.contains("\"porosity\""));
+    // a file of another name beside it is not the set's, and stays
+    std::fs::write(tmp("stale_notes.npy"), b"x").unwrap();
+    run("elevation");
+    assert!(!tmp("stale_impedance.npy").exists() && tmp("stale_notes.npy").exists());
+}
+
+/// What a scenario file or a flag asks for that the run would not do is refused or said,
+/// whatever `--quiet` says where a value given is changed.
+#[test]
+fn scenario_waves_bins_and_idle_angles_are_said() {
+    let scene = |name: &str, text: &str| {
+        let p = tmp(name);
+        std::fs::write(&p, format!("model = \"ripple\"\nmode = \"2d\"\nnx = 32\nny = 1\nlayers = 10\nsteps = 20\n{text}")).unwrap();
+        p
+    };
+    // waves without a period, in a scenario: refused as on the command line
+    for (name, text) in [
+        ("w_none.toml", "current_speed = 0\nwave_amplitude = 0.3\n"),
+        (
+            "w_zero.toml",
+            "current_speed = 0\nwave_amplitude = 0.3\nwave_period = 0\n",
+        ),
+    ] {
+        let p = scene(name, text);
+        let o = cellsurf(&["ripple", "--scenario", p.to_str().unwrap()]);
+        assert_refused(
+            &[name],
+            &o,
+            "wave_amplitude = 0.3",
+            "needs a wave period: give wave_period_s",
+        );
+    }
+    // a scenario's waves without a friction factor rub the bed more weakly than the same waves
+    // typed: warned
+    let p = scene(
+        "w_nof.toml",
+        "current_speed = 0\nwave_amplitude = 0.4\nwave_period_s = 8\n",
+    );
+    let o = cellsurf(&["ripple", "--scenario", p.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("the scenario's waves have no wave_friction_factor")
+            && err.contains("no lee vortex"),
+        "{err}"
+    );
+    // the same waves typed: no such warning
+    let o = cellsurf(&[
+        "ripple",
+        "--recipe",
+        "paper",
+        "--size",
+        "32x1",
+        "--layers",
+        "10",
+        "--steps",
+        "20",
+        "--current-speed",
+        "0",
+        "--wave-velocity",
+        "0.4",
+        "--wave-period",
+        "8",
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("no wave_friction_factor"));
+    // --current-angle with no current and waves at their own angle acts on nothing
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--current-speed",
+        "0",
+        "--wave-velocity",
+        "0.3",
+        "--wave-period",
+        "8",
+        "--wave-angle",
+        "60",
+        "--current-angle",
+        "10",
+    ]);
+    let err = String::from_utf8_lossy(&cellsurf(&args).stderr).into_owned();
+    assert!(
+        err.contains("warning: --current-angle = 10 deg has no effect"),
+        "{err}"
+    );
+    // and with the waves along the current's axis (no --wave-angle) it sets their direction
+    args.truncate(args.len() - 4);
+    args.extend(["--current-angle", "10"]);
+    let err = String::from_utf8_lossy(&cellsurf(&args).stderr).into_owned();
+    assert!(
+        !err.contains("--current-angle = 10 deg has no effect"),
+        "{err}"
+    );
+    // a bin narrower than a grain
+    let mut args = SMALL.to_vec();
+    args.extend(["--bin-size", "0.0001", "--layer-thickness", "0.00001"]);
+    let err = String::from_utf8_lossy(&cellsurf(&args).stderr).into_owned();
+    assert!(
+        err.contains(
+            "warning: --bin-size = 0.0001 m is narrower than the median grain (--d50 = 0.2 mm)"
+        ),
+        "{err}"
+    );
+    // a scenario's own bin and layers that its bin_travels changes: said under --quiet
+    let printed = cellsurf(&[
+        "ripple",
+        "--size",
+        "64x1",
+        "--layers",
+        "20",
+        "--steps",
+        "30",
+        "--print-scenario",
+    ]);
+    assert!(printed.status.success());
+    let p = tmp("travels.toml");
+    std::fs::write(&p, &printed.stdout).unwrap();
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--d50",
+        "0.4",
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning: the scenario's bin_size, layer_thickness and layers change with its bin_travels"),
+        "{err}"
+    );
+    // unchanged (the scenario's own grain): nothing to say
+    let o = cellsurf(&["ripple", "--scenario", p.to_str().unwrap(), "--quiet"]);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

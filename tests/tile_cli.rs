@@ -740,3 +740,85 @@ fn a_ripple_scenario_in_travels_generates_tiles_on_the_bin_of_the_travel() {
     assert_eq!(run["parameters"]["layer_thickness"], 0.000186, "{run}");
     assert_eq!(tile(&["--bin-size", "0.005"])["bin_size_m"], 0.005);
 }
+
+/// Tiles that would not make one seafloor are refused, naming the tile and what differs: a 2-D
+/// section (one row), another depth of sand, and an acoustic volume of another model. The
+/// mosaic records the acoustic model of its volume.
+#[test]
+fn tiles_of_another_sand_depth_acoustics_or_a_section_are_refused() {
+    let make = |name: &str, extra: &[&str]| {
+        let p = tmp(name);
+        let mut g = vec!["ripple", "--recipe", "paper", "--steps", "20", "--quiet"];
+        g.extend_from_slice(extra);
+        g.extend(["--out", p.to_str().unwrap()]);
+        let o = cellsurf(&g);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        p
+    };
+    const TILE: [&str; 4] = ["--size", "24x12", "--layers", "10"];
+    let base = make("pool-base.nc", &TILE);
+    let deep = make("pool-deep.nc", &["--size", "24x12", "--layers", "40"]);
+    let apl = make(
+        "pool-apl.nc",
+        &[&TILE[..], &["--acoustics", "apl-uw"]].concat(),
+    );
+    let seed2 = make("pool-seed2.nc", &[&TILE[..], &["--seed", "2"]].concat());
+    let section = make("pool-section.nc", &["--size", "48x1", "--layers", "10"]);
+    let tile = |tiles: &[&PathBuf], extra: &[&str], out: &str| {
+        let o = tmp(out);
+        let mut g = vec!["tile", "--out", o.to_str().unwrap()];
+        for t in tiles {
+            g.extend(["--tile", t.to_str().unwrap()]);
+        }
+        g.extend_from_slice(extra);
+        cellsurf(&g)
+    };
+    let refused = |o: &Output, want: &[&str]| {
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(want.iter().all(|w| e.contains(w)), "{want:?}: {e}");
+    };
+    refused(
+        &tile(&[&base, &deep], &[], "pool-a.nc"),
+        &["tile 1 (", "sand depth 0.02 m", "first 0.005 m"],
+    );
+    refused(
+        &tile(&[&base, &apl], &["--volume", "impedance"], "pool-b.nc"),
+        &["impedance of acoustics = apl-uw, first of acoustics = hamilton"],
+    );
+    refused(
+        &tile(&[&section], &[], "pool-c.nc"),
+        &["a 3-D ripple field (this is a 2-D section of 48 x 1 bins"],
+    );
+    assert!(!tmp("pool-a.nc").exists() && !tmp("pool-c.nc").exists());
+    // grain sizes do not depend on the acoustic model: that pool is one seafloor
+    let o = tile(
+        &[&base, &apl],
+        &["--volume", "grain_size", "--quiet"],
+        "pool-d.nc",
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // the same depth and model: accepted, and the model recorded with the volume
+    let o = tile(
+        &[&base, &seed2],
+        &["--volume", "impedance", "--json"],
+        "pool-e.nc",
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(tmp("pool-e.nc")).unwrap();
+    let text = String::from_utf8_lossy(&bytes);
+    assert!(
+        text.contains("param_volume_acoustics"),
+        "no volume_acoustics attribute"
+    );
+    // a mosaic's .npy set written over an earlier one with a volume: the old volume goes
+    let npy = tmp("pool-f.npy");
+    for extra in [&["--volume", "impedance"][..], &[]] {
+        let mut g = vec!["tile", "--quiet", "--tile", base.to_str().unwrap()];
+        g.extend_from_slice(extra);
+        g.extend(["--out", npy.to_str().unwrap()]);
+        let o = cellsurf(&g);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert!(tmp("pool-f.npy").exists() && !tmp("pool-f_impedance.npy").exists());
+}

@@ -62,7 +62,7 @@ pub struct Args {
     /// it.
     #[arg(long, value_name = "FILE.toml")]
     scenario: Option<PathBuf>,
-    /// Depth of the transducer S, m.
+    /// Depth of the transducer S, m: below the surface and above the floor at --source-range.
     #[arg(long, default_value_t = 10.0)]
     source_depth: f64,
     /// Range of S along the section, m.
@@ -80,7 +80,7 @@ pub struct Args {
     /// Centre of the opening, degrees below the horizontal.
     #[arg(long)]
     centre_angle: Option<f64>,
-    /// Rays of the initial fan (more are added at shadow edges).
+    /// Rays of the initial fan, 2 to 1e7 (more are added at shadow edges).
     #[arg(long, default_value_t = 200, value_parser = conv::count_in::<usize>(shadow::RAYS))]
     rays: usize,
     /// Sound-speed profile.
@@ -104,7 +104,8 @@ pub struct Args {
     /// Mackenzie: constant salinity, ppt.
     #[arg(long, default_value_t = 35.0)]
     salinity: f64,
-    /// Depth of the substrate under the generated ripples, m (floor depth = this - elevation).
+    /// Depth of the substrate under the generated ripples, m, 1e-6 to 12000 (floor depth = this
+    /// - elevation).
     #[arg(long, default_value_t = 12.0)]
     water_depth: f64,
     /// Seafloor from a CSV file of `x, depth[, impedance]` rows (m, m, kg m^-2 s^-1) instead
@@ -129,10 +130,10 @@ pub struct Args {
     /// Seed of the generated ripple field.
     #[arg(long, default_value_t = 1, value_parser = conv::count_in::<u64>(SEED))]
     seed: u64,
-    /// Ray step (arc length), m.
+    /// Ray step (arc length), m, 1e-6 to 1e5 and at most the longest ray path (--max-path).
     #[arg(long, default_value_t = 0.25)]
     ds: f64,
-    /// Most reflections a ray (surface and floor).
+    /// Most reflections a ray (surface and floor), 0 to 100000.
     #[arg(long, default_value_t = 10, value_parser = conv::count_in::<usize>(ray::MAX_BOUNCES))]
     max_bounces: usize,
     /// Longest ray path, m [default: 3 x (section span + water depth)].
@@ -321,6 +322,7 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         let mut z = ZarrSurface::open(p).context("reading --seafloor")?;
         let (_, ny, bin) = z.shape();
         check_section_memory(a, bin)?;
+        check_azimuth_on_section(a, ny)?;
         let line = SectionLine::through_middle(ny, bin, a.azimuth, a.length);
         let f = cut_section(&mut z, line, a.water_depth, 0.0).context("reading --seafloor")?;
         return Ok((f, "tile store", Some(z.chunks_read)));
@@ -335,8 +337,23 @@ fn build_floor(a: &Args) -> Result<(Seafloor, &'static str, Option<usize>)> {
         (None, None) => (RippleSurface::generated(a.seed)?, "generated"),
     };
     check_section_memory(a, surf.bin)?;
+    check_azimuth_on_section(a, surf.ny)?;
     let line = SectionLine::through_middle(surf.ny, surf.bin, a.azimuth, a.length);
     Ok((surf.grid().section(line, a.water_depth, 0.0)?, kind, None))
+}
+
+/// Refuses a cut across a 2-D section (a seafloor one row wide, `ny = 1`): off its row the
+/// section repeats that row, so the cut would be a floor of one height labelled as ripples.
+fn check_azimuth_on_section(a: &Args, ny: usize) -> Result<()> {
+    let along = a.azimuth.rem_euclid(180.0);
+    if ny == 1 && along > 1e-9 && along < 180.0 - 1e-9 {
+        bail!(
+            "--azimuth = {} deg crosses the seafloor, a 2-D section one row wide: cut along \
+             it, --azimuth 0 or 180 (or -180, 360, -360), or give a 3-D field",
+            a.azimuth
+        );
+    }
+    Ok(())
 }
 
 /// Warns of the tracer's options given (typed, or set by a scenario file) that have no effect

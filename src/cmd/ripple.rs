@@ -136,7 +136,11 @@ pub struct Args {
     wave_period: Option<f64>,
     /// Near-bed orbital velocity amplitude of the waves, m/s, 0 to 10 (above 0 it needs
     /// --wave-period; 0 is no waves, and switches off a scenario's) [default: 0].
-    #[arg(long = "wave-velocity", alias = "wave-amplitude")]
+    #[arg(
+        long = "wave-velocity",
+        alias = "wave-amplitude",
+        value_name = "WAVE_VELOCITY"
+    )]
     wave_amplitude: Option<f64>,
     /// Surface wave height H (crest to trough), m: the near-bed orbital velocity then follows
     /// from linear wave theory with --wave-period and --water-depth (instead of
@@ -666,6 +670,23 @@ fn params_from(
             "warning: the scenario's wave_friction_factor = {} was set for its own d50 and waves; it is kept (give --wave-period in seconds to compute it anew from the orbital excursion, or --wave-friction-factor)",
             p.wave_friction_factor
         ));
+    } else if a.scenario.is_some()
+        && a.wave_period.is_none()
+        && a.wave_friction_factor.is_none()
+        && p.wave_friction_factor == 0.0
+        && p.wave_amplitude > 0.0
+        && (p.wave_period > 0.0 || secs.wave_period().is_some())
+    {
+        // a scenario's waves without their own friction factor rub the bed as a current
+        // would, more weakly than the same waves typed on the command line
+        conv::note(format_args!(
+            "warning: the scenario's waves have no wave_friction_factor (0: their bed stress takes the current's drag coefficient, weaker than Soulsby's friction factor of waves){}; --wave-period typed in seconds sets both from the waves, as a run of the same waves without the scenario does",
+            if p.wave_vortex == 0.0 && !a.no_wave_vortex {
+                " and no lee vortex (wave_vortex = 0)"
+            } else {
+                ""
+            }
+        ));
     }
     // wave options with no waves to act on: none given, or switched off on the command line
     // (`--wave-velocity 0`, which leaves a scenario's own wave keys idle without a word)
@@ -786,6 +807,16 @@ fn params_from(
             p.current_speed
         ));
     }
+    // with waves at their own angle and no current, nothing flows along the current's angle
+    if let Some(c) = a
+        .current_angle
+        .filter(|_| p.current_speed == 0.0 && p.wave_angle.is_some())
+    {
+        conv::note(format_args!(
+            "warning: --current-angle = {c} deg has no effect: there is no current (--current-speed = 0) and the waves run along their own --wave-angle = {} deg",
+            p.wave_angle.unwrap_or_default()
+        ));
+    }
     if p.suspension_exponent != 2.0 && !p.crest_suspension_on() {
         conv::note(format_args!(
             "warning: suspension_exponent = {} has no effect: crest suspension is off (crest_suspension, crest_suspension_grains and crest_suspension_hops are 0)",
@@ -825,8 +856,15 @@ fn params_from(
             );
         }
         // (a printed scenario shows the bin itself)
+        // a scenario file's own bin, automata and layers are values the run was given: their
+        // change is said whatever --quiet says (a recipe's are its fallbacks, a note)
+        let lead = if a.scenario.is_some() {
+            "warning: the scenario's bin_size, layer_thickness and layers change with its bin_travels:"
+        } else {
+            "note:"
+        };
         bin_note = (!a.print_scenario).then(|| format!(
-            "note: bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {}; --bin-size gives another bin",
+            "{lead} bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {}; --bin-size gives another bin",
             cellsurf::ripple::params::shown(p.bin_travels),
             cellsurf::ripple::params::rounded(travel),
             cellsurf::ripple::params::shown(p.current_speed),
@@ -997,11 +1035,25 @@ pub fn model_stuck_reason(p: &RippleParams, speed: f64, beta_flag: &str) -> Stri
              measurement moved none); a stoss angle above 0 deg (default 7) lets grains move"
         )
     } else {
+        // between the two, only the finest of the sorting's grains could move
+        let few = if speed >= finest {
+            format!(
+                "; at {speed:.3} m/s only the finest of the sorting's grains could move, a \
+                 small part of the sand{}, and the measurement's sample of them moved none",
+                if p.has_wave() {
+                    ", and only near the waves' peaks"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            String::new()
+        };
         format!(
             "the model's rules carry no grain a bin on a flat bed (the flat-bed measurement \
              moved none): they move the finest grains from {finest:.3} m/s and the median grain \
              from {median:.3} m/s (the bin size, the layer thickness and the hop length set that \
-             threshold)"
+             threshold){few}"
         )
     }
 }
@@ -1112,6 +1164,16 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
 }
 
 /// Runs the subcommand.
+/// Says the note on the bin: a warning (a change to values a scenario file gave) whatever
+/// `--quiet` says, a note otherwise.
+fn say_bin_note(n: &str) {
+    if n.starts_with("warning:") {
+        conv::changed(n);
+    } else {
+        conv::note(n);
+    }
+}
+
 pub fn run(a: Args) -> Result<()> {
     conv::synonyms(&[("nx", "size"), ("ny", "size")]);
     conv::set_quiet(a.quiet);
@@ -1119,7 +1181,7 @@ pub fn run(a: Args) -> Result<()> {
     let (p, secs, recipe, bin_note) = params(&a)?;
     if a.print_scenario {
         if let Some(n) = &bin_note {
-            conv::note(n);
+            say_bin_note(n);
         }
         // (the scenario holds the model; these choose what a run writes)
         let run_only = conv::given_flags(&[
@@ -1350,13 +1412,19 @@ pub fn run(a: Args) -> Result<()> {
     let mut p = p;
     let asked_steps = p.steps;
     to_steps(&secs, &mut p, clock.as_ref())?;
-    if p.wave_amplitude > 0.0
-        && p.wave_period == 0.0
-        && (clock.is_some() || a.scenario.is_none() && secs.wave_period.is_none())
-    {
+    // waves without a period (a scenario's `wave_period = 0`, or its velocity without
+    // `wave_period_s`) would run as no waves at all: refused, as on the command line
+    if p.wave_amplitude > 0.0 && p.wave_period == 0.0 && secs.wave_period.is_none() {
+        if conv::typed("wave_amplitude") || a.scenario.is_none() {
+            bail!(
+                "{} = {} m/s needs a wave period: give --wave-period (seconds)",
+                conv::typed_flag("wave_amplitude").unwrap_or_else(|| "--wave-velocity".into()),
+                p.wave_amplitude
+            );
+        }
         bail!(
-            "{} = {} m/s needs a wave period: give --wave-period (seconds)",
-            conv::typed_flag("wave_amplitude").unwrap_or_else(|| "--wave-velocity".into()),
+            "wave_amplitude = {} m/s in the scenario needs a wave period: give wave_period_s \
+             (seconds, > 0) in the scenario or --wave-period on the command line",
             p.wave_amplitude
         );
     }
@@ -1394,6 +1462,15 @@ pub fn run(a: Args) -> Result<()> {
             "warning: the domain is {along:.3} m long along the flow ({} deg from east), less than 4 wavelengths of the ripple ({of_what}: 4 x {expected:.3} m = {:.3} m): the domain, not the sediment, will limit the ripples; give a larger --size or --bin-size",
             p.flow_angle(),
             4.0 * expected,
+        ));
+    }
+    // a bin is a column of sand: one narrower than a grain resolves nothing the grain has
+    if p.bin_size < p.d50 * 1e-3 {
+        conv::note(format_args!(
+            "warning: --bin-size = {} m is narrower than the median grain (--d50 = {} mm): a bin of the model is a column of sand some grains wide, and lengths below a grain's diameter have no physical meaning; give a --bin-size of at least {} m",
+            p.bin_size,
+            p.d50,
+            p.d50 * 1e-3
         ));
     }
     let resolving = largest_resolving_bin(predicted.height, p.avalanche_angle);
@@ -1474,7 +1551,7 @@ pub fn run(a: Args) -> Result<()> {
     let volume_out = out.is_some() && spec.fields.iter().any(|f| *f != Field::Elevation);
     check_run_memory(&p, times.len(), volume_out)?;
     if let Some(n) = &bin_note {
-        conv::note(n);
+        say_bin_note(n);
     }
 
     let start = Instant::now();

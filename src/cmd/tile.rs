@@ -80,7 +80,7 @@ pub struct Args {
     /// --generate: bin size, m [default: the scenario's, else 0.005].
     #[arg(long)]
     bin_size: Option<f64>,
-    /// --generate: seeds of the runs (comma-separated) [default: --seed].
+    /// --generate: seeds of the runs (comma-separated), each 0 to 2^53 [default: --seed].
     #[arg(long, value_delimiter = ',', value_parser = conv::count_in::<u64>(SEEDS))]
     seeds: Option<Vec<u64>>,
     /// Steps whose snapshots are tiles (comma-separated) [default: the last step / snapshot].
@@ -95,7 +95,7 @@ pub struct Args {
     /// Tile choice per mosaic cell: same (the first tile) or patches (seeded random).
     #[arg(long, default_value = "same")]
     choose: String,
-    /// Cross-fade band at the tile edges, bins (0 = none).
+    /// Cross-fade band at the tile edges, bins, 0 (none) to the smaller tile side.
     #[arg(long, default_value_t = 0, value_parser = conv::count_within::<usize>(BLEND))]
     blend: usize,
     /// Volume field to write beneath the surface (grain_size, porosity, density, sound_speed,
@@ -125,8 +125,8 @@ pub struct Args {
     /// frame).
     #[arg(long, allow_hyphen_values = true)]
     current_angle: Option<f64>,
-    /// --dunes: steering of the current by the dune slope, dimensionless: u = e - steering grad D,
-    /// e the unit vector of --current-angle and grad D the dune slope in m/m.
+    /// --dunes: steering of the current by the dune slope, dimensionless, >= 0: u = e - steering
+    /// grad D, e the unit vector of --current-angle and grad D the dune slope in m/m.
     #[arg(long, default_value_t = 3.0)]
     steering: f64,
     /// --dunes: dune-grid nodes per side, 3 ..= the surface's bins along its longer side and at
@@ -197,6 +197,10 @@ struct Recorded {
     #[serde(skip_serializing_if = "Option::is_none")]
     dune_seed: Option<u64>,
     volume: String,
+    /// The acoustic model of the tiles' density, sound speed or impedance volume (absent for
+    /// other volumes and without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    volume_acoustics: Option<String>,
     dunes: bool,
     hurst: f64,
     dune_rms: f64,
@@ -908,6 +912,16 @@ pub fn run(a: Args) -> Result<()> {
     }
     let labels: Vec<String> = tiles.iter().map(|t| t.label.clone()).collect();
     let tiles_digest = cellsurf::tile::tileset::digest(&tiles);
+    let volume_acoustics = tiles
+        .first()
+        .and_then(|t| t.volume.as_ref())
+        .filter(|v| {
+            matches!(
+                v.field,
+                Field::Density | Field::SoundSpeed | Field::Impedance
+            )
+        })
+        .map(|v| v.acoustics.name().to_string());
     // The mosaic is laid in the tiles' frame: its x axis is theirs (east for grid-frame runs,
     // the flow for flow-frame runs); --current-angle is from east, the dunes' current is taken
     // in the mosaic's frame.
@@ -1009,6 +1023,7 @@ pub fn run(a: Args) -> Result<()> {
         seed: a.seed,
         dune_seed: a.dune_seed.filter(|_| a.dunes),
         volume: a.volume.map(|f| f.name()).unwrap_or("none").into(),
+        volume_acoustics,
         dunes: a.dunes,
         hurst: a.hurst,
         dune_rms: dune_params.rms,

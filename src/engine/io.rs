@@ -334,6 +334,29 @@ where
     tmp.commit(path)
 }
 
+/// Removes the files of an earlier `.npy` set that a new set, just written, does not
+/// replace: each of `candidates` (the set's possible files, `STEM.npy` and `STEM_FIELD.npy`
+/// for every field the writer knows) that is not in `written` and is a regular file. A set
+/// written over another is then the new run's alone, as a store or a NetCDF file written over
+/// another is, and its sidecar lists every file beside it. Returns the files removed; a file
+/// that cannot be removed is left, and reported as an error.
+pub fn remove_stale(candidates: &[PathBuf], written: &[PathBuf]) -> io::Result<Vec<PathBuf>> {
+    let mut removed = Vec::new();
+    for c in candidates {
+        let is_file = std::fs::symlink_metadata(c).is_ok_and(|m| m.file_type().is_file());
+        if !written.contains(c) && is_file {
+            std::fs::remove_file(c).map_err(|e| {
+                io::Error::new(
+                    e.kind(),
+                    format!("removing {}, left from an earlier run: {e}", c.display()),
+                )
+            })?;
+            removed.push(c.clone());
+        }
+    }
+    Ok(removed)
+}
+
 /// Writes `bytes` to `path` atomically (see [`write_atomic_with`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     write_atomic_with(path, |w| w.write_all(bytes))

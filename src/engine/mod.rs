@@ -61,3 +61,13 @@ pub mod zarr;
 
 /// The crate version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A number as an error message shows it: in scientific notation when very large or very
+/// small (`1e300`, not three hundred digits), as written otherwise.
+pub fn shown(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && !(1e-6..1e9).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}

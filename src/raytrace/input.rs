@@ -90,6 +90,23 @@ pub fn read_surface(path: &Path) -> Result<(RippleSurface, SurfaceKind), Raytrac
         return Ok((RippleSurface::from_file(&f)?, SurfaceKind::Ripple));
     }
     let dims = ds.get_var("elevation").map(|v| v.dim_names());
+    // a ripple run's volume written without its elevation (`--fields` without it)
+    let volume_only = [
+        "grain_size",
+        "porosity",
+        "density",
+        "sound_speed",
+        "impedance",
+    ]
+    .iter()
+    .any(|v| ds.has_var(v));
+    if dims.is_none() && volume_only {
+        return Err(err(
+            path,
+            "a ripple file without the bed's elevation (written with --fields that leave it \
+             out): a seafloor needs it; write the run with --fields elevation,...",
+        ));
+    }
     if dims.as_deref() != Some(&["y".to_string(), "x".to_string()][..]) {
         return Err(err(
             path,

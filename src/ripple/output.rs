@@ -140,10 +140,17 @@ impl OutputSpec {
     /// a porosity field.
     pub fn validate(&self, model: AcousticModel) -> Result<(), RippleError> {
         if model == AcousticModel::AplUw && self.fields.contains(&Field::Porosity) {
-            return Err(RippleError::Unknown {
+            return Err(RippleError::Range {
                 parameter: "fields",
-                value: "porosity".into(),
-                expected: "fields without porosity with acoustics = apl-uw (a look-alike preset that ignores porosity)",
+                value: self
+                    .fields
+                    .iter()
+                    .map(|f| f.name())
+                    .collect::<Vec<_>>()
+                    .join(","),
+                expected: "fields without porosity with acoustics = apl-uw (a look-alike preset \
+                           that ignores porosity)"
+                    .into(),
             });
         }
         if self.fields.is_empty() {
@@ -544,7 +551,9 @@ pub fn json_string(s: &str) -> String {
 
 /// The `.npy` files of a run, next to `out` with its extension dropped: `STEM.npy` the
 /// elevation snapshots, `STEM_FIELD.npy` each volume field, and the sidecar `STEM.json`
-/// (parameters, version, shapes, units). Returns the files written.
+/// (parameters, version, shapes, units). An earlier run's files of the set that this run does
+/// not write (a field it was not asked for) are removed, so that the files beside the sidecar
+/// are this run's alone. Returns the files written.
 pub fn write_npy(
     out: &Path,
     r: &Ripple,
@@ -645,6 +654,12 @@ pub fn write_npy_with(
     let side = paths.last().expect("the sidecar is the last path");
     crate::engine::io::write_atomic(side, json.as_bytes()).map_err(|e| io_err(side, e))?;
     written.push(side.clone());
+    // an earlier run's fields that this one does not write go with it
+    let all = OutputSpec {
+        fields: Field::ALL.to_vec(),
+        ..spec.clone()
+    };
+    crate::engine::io::remove_stale(&npy_paths(out, &all), &written).map_err(|e| io_err(out, e))?;
     Ok(written)
 }
 

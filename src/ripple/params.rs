@@ -432,7 +432,11 @@ pub const SEED: CountRange = CountRange::new(
 /// `nx`: bins along x.
 pub const NX: CountRange = CountRange::new(3, 1 << 16, "an integer in [3, 65536]");
 /// `ny`: bins along y in 3-D mode (a 2-D section has one).
-pub const NY: CountRange = CountRange::new(3, 1 << 16, "an integer in [3, 65536] in 3-D mode");
+pub const NY: CountRange = CountRange::new(
+    3,
+    1 << 16,
+    "an integer in [3, 65536] in 3-D mode (a 2-D section of one row takes mode = \"2d\", or --size NXx1)",
+);
 /// `--size NXxNY`, as [`NX`] and [`NY`] hold it.
 pub const SIZE_SIDES: &str = "sides of 3 to 65536 bins (NY 1 in 2-D mode)";
 /// `layers`: mean initial sand thickness, automata per column.
@@ -448,15 +452,8 @@ fn range(parameter: &'static str, value: impl fmt::Display, expected: &str) -> R
     }
 }
 
-/// A number as an error message shows it: in scientific notation when very large or very
-/// small (`1e300`, not three hundred digits), as written otherwise.
-pub fn shown(v: f64) -> String {
-    if v.is_finite() && v != 0.0 && !(1e-6..1e9).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        v.to_string()
-    }
-}
+/// A number as an error message shows it ([`crate::engine::shown`]).
+pub use crate::engine::shown;
 
 /// The most automata slots of a run's volume: columns x column capacity
 /// ([`RippleParams::capacity`]).

@@ -250,7 +250,8 @@ fn check_source(src: &dyn RowSource, nz: usize) -> Result<(), TileError> {
 }
 
 /// Streams `src` to `path` as `spec` says; `progress(rows done)` as it goes. For `.npy`,
-/// `path`'s extension is replaced (`STEM.npy`, `STEM_FIELD.npy`, `STEM.json`). Every file is
+/// `path`'s extension is replaced (`STEM.npy`, `STEM_FIELD.npy`, `STEM.json`), and an earlier
+/// mosaic's `STEM_FIELD.npy` that this one does not write is removed. Every file is
 /// written to a temporary sibling and renamed when complete; on error nothing is left behind.
 pub fn write_stream(
     path: &Path,
@@ -279,7 +280,17 @@ pub fn write_stream(
             write_netcdf_stream(path, src, spec, nz, &mut meter, progress)?;
             vec![path.to_path_buf()]
         }
-        StreamFormat::Npy => write_npy_stream(path, src, spec, nz, &mut meter, progress)?,
+        StreamFormat::Npy => {
+            let files = write_npy_stream(path, src, spec, nz, &mut meter, progress)?;
+            // an earlier mosaic's volume file that this one does not write goes with it
+            let candidates: Vec<PathBuf> = Field::ALL
+                .iter()
+                .flat_map(|&f| npy_files(path, Some(f).filter(|f| *f != Field::Elevation)))
+                .collect();
+            crate::engine::io::remove_stale(&candidates, &files)
+                .map_err(|e| out_err(path, e.to_string()))?;
+            files
+        }
         StreamFormat::Zarr => {
             return Err(TileError::range(
                 "format",

@@ -5,7 +5,7 @@
 
 use super::TileError;
 use crate::ripple::output::{Field, volume_field, volume_levels};
-use crate::ripple::{Ripple, RippleParams};
+use crate::ripple::{AcousticModel, Ripple, RippleParams};
 
 /// A volume field of a tile on `(z, y, x)`: `nz x ny x nx` values, NaN above the bed.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,6 +16,9 @@ pub struct TileVolume {
     pub nz: usize,
     /// Values, z-major then y then x.
     pub data: Vec<f32>,
+    /// The acoustic model of the run that made it (`acoustics`): density, sound speed and
+    /// impedance depend on it, so a pool mixes none of two models.
+    pub acoustics: AcousticModel,
 }
 
 /// One toroidal tile: `ny` rows of `nx` elevations (m), bins `bin_size` m.
@@ -41,6 +44,9 @@ pub struct Tile {
     pub volume: Option<TileVolume>,
     /// Where the tile comes from ("seed 3, step 2500", "run.nc, step 3000").
     pub label: String,
+    /// The depth of sand of the ripple run that made it, m (`layers x layer_thickness`: its
+    /// mean elevation, which the run conserves); `None` for a tile from a bare elevation grid.
+    pub sand_depth: Option<f64>,
 }
 
 impl Tile {
@@ -62,6 +68,7 @@ impl Tile {
             x_axis_deg: 0.0,
             elevation,
             volume: None,
+            sand_depth: None,
             label: label.into(),
         };
         t.validate()?;
@@ -78,6 +85,7 @@ impl Tile {
                 field: f,
                 nz: volume_levels(r),
                 data: volume_field(r, f, f32::NAN),
+                acoustics: p.acoustics,
             });
         Tile {
             nx,
@@ -88,6 +96,7 @@ impl Tile {
             x_axis_deg: p.frame_angle(),
             elevation: r.elevation().iter().map(|&v| v as f32).collect(),
             volume,
+            sand_depth: Some(p.layers as f64 * p.layer_thickness),
             label: label.into(),
         }
     }
@@ -216,7 +225,8 @@ pub fn digest(tiles: &[Tile]) -> String {
 }
 
 /// Checks that the tiles of a pool can share a mosaic: at least one, each valid, all with the
-/// size, bin size and (when they carry volumes) layer thickness and field of the first.
+/// size, bin size, x axis and (for tiles of ripple runs) depth of sand of the first and, when they carry volumes, its layer thickness, field and (for density, sound
+/// speed and impedance) acoustic model.
 pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
     let first = tiles
         .first()
@@ -266,8 +276,31 @@ pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
                         t.layer_thickness, first.layer_thickness
                     )));
                 }
+                let acoustic = matches!(
+                    a.field,
+                    Field::Density | Field::SoundSpeed | Field::Impedance
+                );
+                if acoustic && a.acoustics != b.acoustics {
+                    return Err(bad(format!(
+                        "{} of acoustics = {}, first of acoustics = {}",
+                        a.field.name(),
+                        a.acoustics.name(),
+                        b.acoustics.name()
+                    )));
+                }
             }
             _ => return Err(bad("one has a volume field and the other not".into())),
+        }
+        // the sand's depth: a ripple run conserves its sand, so its tiles' mean elevation is
+        // that depth; tiles of two depths would meet in steps at their seams
+        if let (Some(dt), Some(df)) = (t.sand_depth, first.sand_depth)
+            && (dt - df).abs() > 1e-9 * df.abs().max(dt.abs())
+        {
+            return Err(bad(format!(
+                "sand depth {dt} m (layers x layer_thickness), first {df} m (tiles of another \
+                 depth of sand meet the others in steps at their seams: make the tiles with one \
+                 --layers and --layer-thickness)"
+            )));
         }
     }
     Ok(())
@@ -284,6 +317,18 @@ pub fn tiles_from_file(
 ) -> Result<Vec<Tile>, TileError> {
     let f = crate::ripple::input::read(path)?;
     let name = path.display().to_string();
+    // a 2-D section is one row: laid side by side its rows would repeat across the mosaic
+    if f.ny == 1 {
+        return Err(TileError::range(
+            "tile",
+            &name,
+            format!(
+                "a 3-D ripple field (this is a 2-D section of {} x 1 bins; tiles are 3-D \
+                 fields, made with `cellsurf ripple --size NXxNY`, NY above 1)",
+                f.nx
+            ),
+        ));
+    }
     let last = f.times.len().checked_sub(1).ok_or_else(|| {
         TileError::range(
             "tile",
@@ -330,6 +375,7 @@ pub fn tiles_from_file(
                 field: fl,
                 nz: f.nz,
                 data: data.to_vec(),
+                acoustics: f.params.acoustics,
             })
         }
     };
@@ -346,6 +392,7 @@ pub fn tiles_from_file(
                 elevation: f.elevation[i].clone(),
                 volume: volume.clone(),
                 label: format!("{name}, step {}", f.times[i]),
+                sand_depth: Some(f.params.layers as f64 * f.params.layer_thickness),
             };
             t.validate()?;
             Ok(t)
