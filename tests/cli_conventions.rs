@@ -220,36 +220,37 @@ fn unknown_extension_and_wrong_scenario_model_are_refused_by_name() {
 }
 
 /// Every output of a run is moved into place only when the whole run succeeded: a run that
-/// fails on its last output leaves none of the others (and no temporary file).
+/// fails on a later output leaves none of the others (and no temporary file). The write fails
+/// for real: a file-size limit (`ulimit -f`, with the signal it raises ignored so that the
+/// write returns an error) that the picture, written first, fits and the `.npy` does not.
 #[test]
 fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     let dir = tmp_in("conventions", "late_failure");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    // The .npy's sidecar is in the way: found only when the sidecar is written, after the
-    // .npy and the .png were finished.
-    std::fs::create_dir_all(dir.join("s.json")).unwrap();
     let npy = dir.join("s.npy");
     let png = dir.join("s.png");
-    let run = || {
-        cellsurf(&[
-            "wind-ripples",
-            "--size",
-            "8",
-            "--particles",
-            "100",
-            "--steps",
-            "3",
-            "--out",
-            npy.to_str().unwrap(),
-            "--out",
-            png.to_str().unwrap(),
-        ])
+    // (a 256 x 256 grid: the .npy is 512 KiB, the picture about 40 KB; the limit, 300 blocks,
+    // is 150 KiB in the 512-byte blocks of a POSIX shell, 300 KiB in 1024-byte ones)
+    let args = format!(
+        "wind-ripples --size 256 --particles 100 --steps 3 --out {} --out {}",
+        npy.display(),
+        png.display()
+    );
+    let run = |limit: &str| {
+        std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!(
+                "trap '' XFSZ; ulimit -f {limit}; exec \"$0\" {args}"
+            ))
+            .arg(env!("CARGO_BIN_EXE_cellsurf"))
+            .output()
+            .expect("run cellsurf under sh")
     };
-    let out = run();
-    assert_eq!(out.status.code(), Some(1));
+    let out = run("300");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("s.json"), "{err}");
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("s.npy"), "{err}");
     assert!(err.contains("no output was written"), "{err}");
     // and no file rolled back is reported as written
     assert!(!err.contains("wrote "), "{err}");
@@ -258,10 +259,9 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(left, vec!["s.json".to_string()], "{err}");
-    // The same run with the way clear writes all three.
-    std::fs::remove_dir(dir.join("s.json")).unwrap();
-    let out = run();
+    assert!(left.is_empty(), "{left:?}: {err}");
+    // The same run without the limit writes all three.
+    let out = run("unlimited");
     assert!(out.status.success());
     assert!(npy.is_file() && png.is_file() && dir.join("s.json").is_file());
     // reported once they are in place
@@ -271,6 +271,34 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
             && err.contains(&format!("wrote {}", png.display())),
         "{err}"
     );
+}
+
+/// The `.npy`'s sidecar `NAME.json` is an output like the others: one in the way (a folder) is
+/// refused before the run, naming it, and nothing is written.
+#[test]
+fn a_sidecar_in_the_way_is_refused_before_the_run() {
+    let dir = tmp_in("conventions", "sidecar_in_the_way");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("s.json")).unwrap();
+    let npy = dir.join("s.npy");
+    let out = cellsurf(&[
+        "wind-ripples",
+        "--size",
+        "8",
+        "--particles",
+        "100",
+        "--steps",
+        "3",
+        "--out",
+        npy.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: --out (the sidecar of the .npy)") && err.contains("s.json"),
+        "{err}"
+    );
+    assert!(!npy.exists(), "{err}");
 }
 
 /// A reader that closes standard output early (`| head`) ends the run quietly: exit 0, no
@@ -992,7 +1020,7 @@ fn the_error_comes_first_and_no_value_is_changed_silently() {
         ),
         (
             vec!["converge", "dunes", "--seeds", "5", "--part", "9/2"],
-            "error: --part = 9/2 is out of range",
+            "error: invalid value '9/2' for '--part <i/N>': expected i/N with i in 0..N-1",
         ),
     ];
     for (args, first) in refused {
@@ -1113,4 +1141,76 @@ fn a_sea_quantile_that_cannot_be_met_is_warned_of() {
     );
     let e = run(&["cursor", "--size", "64", "--sea-quantile", "0.3"]);
     assert!(!e.contains("floods"), "{e}");
+}
+
+/// A value a scenario file gave that a command refuses is named by the file's key, not by a
+/// flag that was never typed; and a printed growth scenario runs with a shorter `--steps`, its
+/// snapshots beyond it dropped and said so (whatever `--quiet` says).
+#[test]
+fn a_scenarios_values_are_named_by_their_keys_and_its_snapshots_fit_a_shorter_run() {
+    let file = |name: &str, text: &str| {
+        let p = tmp_in("conventions", name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    for (model, text, first) in [
+        (
+            "wind-ripples",
+            "model = \"wind-ripples\"\nsize = \"32x16\"\n",
+            "error: size = 32x16 is out of range",
+        ),
+        (
+            "dunes",
+            "model = \"dunes\"\nsize = 2\n",
+            "error: size (grid) = 2 is out of range",
+        ),
+    ] {
+        let p = file(&format!("keys-{model}.toml"), text);
+        let out = cellsurf(&[model, "--scenario", p.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(
+            err.starts_with(first) && err.contains("(the scenario file's size)"),
+            "{model}: {err}"
+        );
+    }
+    // typed, the same value is named by its flag
+    let out = cellsurf(&["dunes", "--size", "2"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("scenario"), "{err}");
+    // a printed growth scenario and a shorter run
+    let printed = cellsurf(&["grow", "--size", "16", "--steps", "50", "--print-scenario"]);
+    assert!(printed.status.success());
+    let p = tmp_in("conventions", "printed-grow.toml");
+    std::fs::write(&p, &printed.stdout).unwrap();
+    let out = cellsurf(&[
+        "grow",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--steps",
+        "10",
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "warning: the scenario's snapshots [50] lie beyond --steps = 10: the run draws [10]"
+        ),
+        "{err}"
+    );
+    // a longer run keeps the scenario's snapshots as they are, without a word
+    let out = cellsurf(&[
+        "grow",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--steps",
+        "60",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

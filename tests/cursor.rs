@@ -931,6 +931,99 @@ mod cli {
     }
 }
 
+/// A palette image whose pixels name entries the palette lacks is damaged (the decoder would
+/// expand them to black, calm air): refused, naming the pixel; the same image with indices in
+/// the palette reads, at 8 and at 4 bits a pixel.
+#[test]
+fn palette_indices_beyond_the_palette_are_refused() {
+    let image = |depth: png::BitDepth, row: &[u8]| {
+        let mut out = Vec::new();
+        {
+            let mut enc = png::Encoder::new(&mut out, 4, 3);
+            enc.set_color(png::ColorType::Indexed);
+            enc.set_depth(depth);
+            enc.set_palette(vec![200u8, 0, 0, 0, 0, 200]);
+            let mut wr = enc.write_header().unwrap();
+            wr.write_image_data(&[row, row, row].concat()).unwrap();
+            wr.finish().unwrap();
+        }
+        out
+    };
+    let read = |b: &[u8]| WindField::from_png_bytes(b, "pal.png", None, 1.0);
+    let ok = read(&image(png::BitDepth::Eight, &[0, 1, 0, 1])).unwrap();
+    assert_eq!(ok.at(1, 0), Wind::from_rgb([0, 0, 200]));
+    let e = read(&image(png::BitDepth::Eight, &[0, 1, 5, 1]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("pal.png")
+            && e.contains("column 2, row 0")
+            && e.contains("palette index 5")
+            && e.contains("2 entries"),
+        "{e}"
+    );
+    // 4 bits a pixel: 0x01 0x10 is 0, 1, 1, 0; 0x12 puts index 2 in column 2
+    assert!(read(&image(png::BitDepth::Four, &[0x01, 0x10])).is_ok());
+    let e = read(&image(png::BitDepth::Four, &[0x01, 0x20]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("column 2, row 0") && e.contains("palette index 2"),
+        "{e}"
+    );
+}
+
+/// The generators fit their patterns to the torus: `fitted` names every distance or direction
+/// that changes (none where the size holds whole periods), and a converging radius is checked
+/// against the distances the torus takes, so that no centre's radial wind is cut off.
+#[test]
+fn generator_patterns_say_what_fitting_the_torus_changes() {
+    let bimodal = WindSpec::Bimodal {
+        angle_deg: 60.0,
+        speed: 100.0,
+        spread_deg: 150.0,
+        wavelength: 40.0,
+    };
+    let f = bimodal.fitted(50, 50);
+    let get = |f: &[(&str, f64, f64)], n: &str| f.iter().find(|x| x.0 == n).map(|x| x.2);
+    // on 50 x 50 the nearest whole wave vector is (1, 1): bands at 45 deg, 50 / sqrt 2 apart
+    assert!((get(&f, "wind_wavelength").unwrap() - 50.0 / 2f64.sqrt()).abs() < 1e-9);
+    assert!(
+        (get(&f, "wind_angle").unwrap() - 45.0).abs() < 1e-9,
+        "{f:?}"
+    );
+    // along x on a width of whole wavelengths: nothing changes
+    let along = WindSpec::Bimodal {
+        angle_deg: 90.0,
+        speed: 100.0,
+        spread_deg: 150.0,
+        wavelength: 40.0,
+    };
+    assert!(
+        along.fitted(120, 50).is_empty(),
+        "{:?}",
+        along.fitted(120, 50)
+    );
+    let converging = |radius: f64| WindSpec::Converging {
+        angle_deg: 0.0,
+        speed: 50.0,
+        radial: 100.0,
+        wavelength: 80.0,
+        spacing: 120.0,
+        radius,
+    };
+    // 120 cells hold 1.5 wavelengths of 80: the centres sit 60 apart, so 40 is too wide
+    let f = converging(40.0).fitted(120, 120);
+    assert_eq!(get(&f, "wind_wavelength"), Some(60.0));
+    assert_eq!(get(&f, "wind_spacing"), None);
+    let e = converging(40.0).field(120, 120).unwrap_err().to_string();
+    assert!(
+        e.contains("expected 1 to 30") && e.contains("60 x 120 cells"),
+        "{e}"
+    );
+    assert!(converging(30.0).field(120, 120).is_ok());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Fixtures and timing (ignored).
 

@@ -543,6 +543,36 @@ mod cli {
         assert!(a == b, "the PNGs differ");
     }
 
+    /// A scenario file's value is read as the option reads it: `hop = "1/64"` as `--hop 1/64`;
+    /// a string that is not a number is refused, naming the key.
+    #[test]
+    fn a_scenarios_fraction_is_read_as_the_option_reads_it() {
+        let run = |text: &str| {
+            let p = tmp("fraction.toml");
+            std::fs::write(&p, text).unwrap();
+            cellsurf(&[
+                "wind-ripples",
+                "--scenario",
+                p.to_str().unwrap(),
+                "--json",
+                "--quiet",
+            ])
+        };
+        let out =
+            run("model = \"wind-ripples\"\nhop = \"1/64\"\nsteps = 2\nsize = 16\nparticles = 10\n");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["parameters"]["hop"], 0.015625);
+        let out = run("model = \"wind-ripples\"\nhop = \"x/64\"\n");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(err.contains("hop = \"x/64\" is not a valid value"), "{err}");
+    }
+
     #[test]
     fn json_has_the_promised_keys() {
         let mut args = SMALL.to_vec();

@@ -131,10 +131,13 @@ pub fn shown_outside(v: f64, lo: f64, hi: f64) -> String {
         .unwrap_or_else(|| v.to_string())
 }
 
-/// The command line with a negative infinity or NaN given as an option's value joined to it
-/// (`--n -inf` read as `--n=-inf`, `-q -nan` as `-q=-nan`, `--snapshots -inf,5` as
-/// `--snapshots=-inf,5`): the parser takes `-inf` for short flags otherwise, and refuses it
-/// without naming the option, where a negative number is the option's to refuse.
+/// The command line with a negative value given as an option's value joined to it (`--n -inf`
+/// read as `--n=-inf`, `-q -nan` as `-q=-nan`, `--snapshots -inf,5` as `--snapshots=-inf,5`,
+/// `-w -5e-1` as `-w=-5e-1`, `--hop -1/64`, `--size -64x1`): a word that is `-inf`, `-nan` or
+/// a minus sign followed by a digit or a point (no option of the command line is spelt so).
+/// The parser takes such words for short flags otherwise (it knows only the plainest
+/// negative numbers), and refuses them without naming the option, where a negative number is
+/// the option's to refuse.
 pub fn negative_words_joined(
     args: impl IntoIterator<Item = std::ffi::OsString>,
 ) -> Vec<std::ffi::OsString> {
@@ -143,7 +146,11 @@ pub fn negative_words_joined(
         let word = w.to_string_lossy().to_ascii_lowercase();
         // (a list's first item too: `--snapshots -inf,5`)
         let first = word.split(',').next().unwrap_or("");
-        let special = ["-inf", "-infinity", "-nan"].contains(&first);
+        let numeric = first
+            .strip_prefix('-')
+            .and_then(|r| r.chars().next())
+            .is_some_and(|c| c.is_ascii_digit() || c == '.');
+        let special = numeric || ["-inf", "-infinity", "-nan"].contains(&first);
         // a long option (`--n`) or a short one (`-q`), without a value joined to it
         let option = |p: &str| {
             !p.contains('=')
@@ -547,7 +554,13 @@ pub fn parse_usize(s: &str) -> Result<usize, String> {
 
 /// [`parse_whole`] for a `u16` option whose range is the type's (a port).
 pub fn parse_u16(s: &str) -> Result<u16, String> {
-    parse_count_at_most(s, u64::from(u16::MAX))
+    parse_count_at_most(s, u64::from(u16::MAX)).map_err(|e| {
+        if e.contains("not a whole") {
+            format!("{e}: expected 0 to {}", u16::MAX)
+        } else {
+            e
+        }
+    })
 }
 
 /// Ends the program with the run's `result`: a write to a closed standard output (`| head`)
@@ -1445,6 +1458,20 @@ fn flagged(msg: &str) -> String {
             None => format!("{flag} = {rest}"),
         };
     }
+    // a value named as its flag that the scenario file gave, not the command line: its key
+    let value = rest.split_once(' ').map_or(rest, |(v, _)| v);
+    // (a message that says where its value came from already is left as it is)
+    let marked = rest.contains("(the default)") || rest.contains("scenario");
+    if (name.starts_with("--") || synonym.is_some())
+        && typed("scenario")
+        && !marked
+        && set_by_scenario(id, value)
+    {
+        return match synonym {
+            Some(_) => format!("{id} ({name}) = {rest} (the scenario file's {id})"),
+            None => format!("{id} = {rest} (the scenario file's {id})"),
+        };
+    }
     msg.to_string()
 }
 
@@ -1462,8 +1489,8 @@ mod tests {
         assert_eq!(shown_outside(0.79999999, 0.8, 1.2), "0.79999999");
     }
 
-    /// `-inf`, `-infinity` and `-nan` after a long option are joined to it; after anything
-    /// else, and every other word, are left as they are.
+    /// `-inf`, `-infinity`, `-nan` and a minus sign before a digit or a point after an option
+    /// are joined to it; after anything else, and every other word, are left as they are.
     #[test]
     fn negative_words_join_their_option() {
         let words = |v: &[&str]| v.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
@@ -1478,12 +1505,21 @@ mod tests {
         );
         assert_eq!(joined(&["x", "-q", "-inf"]), words(&["x", "-q=-inf"]));
         assert_eq!(joined(&["x", "--s", "-inf,5"]), words(&["x", "--s=-inf,5"]));
+        // the forms the parser's own test of a negative number misses
+        for v in ["-5e-1", "-.5", "-1e-3", "-1,5", "-1/64", "-64x1", "-1"] {
+            assert_eq!(
+                joined(&["x", "-w", v]),
+                words(&["x", &format!("-w={v}")]),
+                "{v}"
+            );
+        }
         for kept in [
             &["x", "--a=1", "-inf"][..],
             &["x", "--", "-inf"],
             &["x", "-dq", "-inf"],
-            &["x", "--a", "-1"],
             &["x", "--a", "-infx"],
+            &["x", "--a", "-q"],
+            &["x", "--a", "-"],
             &["x", "--a", "5,-inf"],
         ] {
             assert_eq!(joined(kept), words(kept), "{kept:?}");
@@ -1512,6 +1548,7 @@ mod tests {
         assert_eq!(parse_whole("1e19"), Ok(10_000_000_000_000_000_000));
         assert_eq!(parse_u16("65535"), Ok(u16::MAX));
         assert!(parse_u16("65536").unwrap_err().contains("at most 65535"));
+        assert!(parse_u16("-1").unwrap_err().contains("expected 0 to 65535"));
     }
 
     #[test]

@@ -363,6 +363,29 @@ pub fn run(a: Args) -> Result<()> {
             let field = s
                 .field(w, h)
                 .with_context(|| format!("in --wind-field {}", g.name()))?;
+            // the pattern fits the torus: a distance or direction given (typed or by the
+            // scenario) that it changes is said, whatever --quiet says
+            for (name, asked, used) in s.fitted(w, h) {
+                let (option, axis) = match name.split_once(' ') {
+                    Some((o, axis)) => (o, format!(" {axis}")),
+                    None => (name, String::new()),
+                };
+                let given = match option {
+                    "wind_wavelength" => a.wind_wavelength.is_some(),
+                    "wind_spacing" => a.wind_spacing.is_some(),
+                    "wind_angle" => a.wind_angle.is_some(),
+                    _ => true,
+                };
+                if !given {
+                    continue;
+                }
+                let flag = conv::typed_flag(option)
+                    .unwrap_or_else(|| format!("--{}", option.replace('_', "-")));
+                conv::changed(format_args!(
+                    "warning: {flag} = {asked}{axis} becomes {used:.4} on the {w} x {h} torus: the --wind-field {} pattern repeats a whole number of times across it (give a --size that holds whole periods to keep it)",
+                    g.name()
+                ));
+            }
             (field, Source::Generator(s))
         }
     };

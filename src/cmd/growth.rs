@@ -149,12 +149,20 @@ pub struct ConvergeArgs {
         long,
         value_name = "i/N",
         conflicts_with = "gather",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = parse_part
     )]
-    part: Option<String>,
+    part: Option<cellsurf::engine::part::Part>,
     /// Draw the figure and its table from the part files in --out-dir (every part of one N).
     #[arg(long)]
     gather: bool,
+}
+
+/// `--part i/N`, checked as the command line is read (a value that is not a part of the study
+/// is refused before any folder is made or run started).
+fn parse_part(s: &str) -> std::result::Result<cellsurf::engine::part::Part, String> {
+    s.parse()
+        .map_err(|e: cellsurf::engine::part::PartError| format!("expected {}", e.expected))
 }
 
 /// A progress report on stderr (unless `--quiet`) as the runs of `study` finish: at most one
@@ -206,11 +214,9 @@ fn converge_parts(a: &ConvergeArgs) -> Result<()> {
             a.study
         );
     };
-    std::fs::create_dir_all(&a.out_dir)
-        .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
+    // (--part: study_records makes --out-dir; --gather reads it, and makes none)
     let t = Instant::now();
-    if let Some(p) = &a.part {
-        let part: cellsurf::engine::part::Part = p.parse()?;
+    if let Some(part) = a.part {
         let records = study_records(study, &a.study, part, &a.out_dir)?
             .into_iter()
             .map(|(run, record)| PartRecord { run, record })
@@ -398,9 +404,21 @@ fn config(scene: SceneKind, a: &GrowArgs) -> Result<(SceneConfig, bool)> {
     }
     if let Some(v) = a.steps {
         c.steps = v;
-        // Default snapshots that no longer fit are thinned to those within the run.
+        // Default snapshots that no longer fit are thinned to those within the run; a
+        // scenario's own, given for its own length, are too, and said so (a printed scenario
+        // holds its snapshots, so that its run with a shorter --steps is not refused)
+        let beyond: Vec<u64> = c.snapshots.iter().copied().filter(|&t| t > v).collect();
         if a.snapshots.is_none() && !scenario_snapshots {
             c.fit_snapshots_to_steps();
+        } else if a.snapshots.is_none() && !beyond.is_empty() && v > 0 {
+            c.snapshots.retain(|&t| t <= v);
+            if c.snapshots.is_empty() {
+                c.snapshots.push(v);
+            }
+            conv::changed(format_args!(
+                "warning: the scenario's snapshots {beyond:?} lie beyond --steps = {v}: the run draws {:?}",
+                c.snapshots
+            ));
         }
     }
     if let Some(v) = &a.snapshots {
@@ -889,10 +907,12 @@ pub fn converge(mut a: ConvergeArgs) -> Result<()> {
         );
     }
     let t0 = Instant::now();
-    std::fs::create_dir_all(&a.out_dir)
-        .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
-    if let Some(p) = &a.part {
-        let part: cellsurf::engine::part::Part = p.parse()?;
+    // (--gather reads --out-dir and writes into it: it makes none)
+    if !a.gather {
+        std::fs::create_dir_all(&a.out_dir)
+            .with_context(|| format!("cannot create --out-dir {}", a.out_dir.display()))?;
+    }
+    if let Some(part) = a.part {
         conv::begin();
         let records = converge::growth_runs(a.seeds, part)?;
         let path = a.out_dir.join(format!(

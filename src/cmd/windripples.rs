@@ -45,13 +45,16 @@ pub struct Args {
     size: Size,
     /// Saltation sensitivity kappa >= 0 (hop = L sigmoid(-kappa h), h has mean 1).
     #[arg(long, default_value_t = WindParams::default().kappa, allow_negative_numbers = true, value_parser = parse_number)]
+    #[serde(deserialize_with = "number_or_fraction")]
     kappa: f64,
     /// Saltation hop L along the wind y, in torus sides (0.015625 = 1/64; fractions such as 1/64
     /// are accepted; L >= 1 wraps around).
     #[arg(long, default_value_t = WindParams::default().hop, allow_negative_numbers = true, value_parser = parse_number)]
+    #[serde(deserialize_with = "number_or_fraction")]
     hop: f64,
     /// Diffusion D, in torus sides per step (standard deviation per axis of the first step).
     #[arg(long, default_value_t = WindParams::default().diffusion, allow_negative_numbers = true, value_parser = parse_number)]
+    #[serde(deserialize_with = "number_or_fraction")]
     diffusion: f64,
     /// Diffusion schedule: annealed (D/sqrt(step+1), the notebook's numpy code) or constant (D,
     /// its torch code).
@@ -95,6 +98,23 @@ fn parse_number(s: &str) -> Result<f64, String> {
         None => s.trim().parse().map_err(|_| bad())?,
     };
     Ok(v)
+}
+
+/// A scenario file's number, or a fraction in a string (`hop = "1/64"`), read as the option
+/// reads it on the command line ([`parse_number`]).
+fn number_or_fraction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(serde::Deserialize)]
+    #[serde(untagged)]
+    enum Given {
+        Number(f64),
+        Whole(i64),
+        Text(String),
+    }
+    match serde::Deserialize::deserialize(d)? {
+        Given::Number(v) => Ok(v),
+        Given::Whole(v) => Ok(v as f64),
+        Given::Text(t) => parse_number(&t).map_err(serde::de::Error::custom),
+    }
 }
 
 /// The summary printed by `--json` and written next to a `.npy` output.
@@ -156,6 +176,13 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let flag = conv::typed_flag("out").unwrap_or_else(|| "--out".into());
+    // the .npy's sidecar NAME.json is an output too: checked with it, before the run
+    if let Some(p) = outs.get(Format::Npy) {
+        cellsurf::engine::io::check_output(
+            &format!("{flag} (the sidecar of the .npy)"),
+            &p.with_extension("json"),
+        )?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads)
         .build()

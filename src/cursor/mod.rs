@@ -114,7 +114,7 @@ pub enum CursorError {
         speed: f64,
     },
     /// A parameter is out of its range.
-    #[error("{name} = {value} is out of range: {range}")]
+    #[error("{name} = {} is out of range: {range}", crate::engine::shown(*value))]
     Parameter {
         /// The parameter.
         name: &'static str,

@@ -293,6 +293,7 @@ impl WindField {
             path: name.to_string(),
             reason,
         };
+        check_palette_indices(bytes).map_err(&png_err)?;
         let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
         decoder.set_transformations(png::Transformations::normalize_to_color8());
         let mut reader = decoder
@@ -884,6 +885,20 @@ impl WindSpec {
                 radius,
             } => {
                 let (lx, ly) = (tile(wavelength, wf), tile(spacing, hf));
+                // the radius against the distances the torus takes, not those asked: beyond half
+                // of either, two centres' radial winds would be cut off at a tile's edge
+                check(
+                    "wind radius",
+                    radius,
+                    1.0,
+                    0.5 * lx.min(ly),
+                    &format!(
+                        " cells (half the smaller distance between centres as they fit the \
+                         {width} x {height} torus: {} x {} cells)",
+                        shown_cells(lx),
+                        shown_cells(ly)
+                    ),
+                )?;
                 let drift = Wind::from_angle(angle_deg, speed);
                 capped(width, height, speed + radial.abs(), |x, y| {
                     let (dx, dy) = offset(x, y, lx, ly);
@@ -919,6 +934,107 @@ impl WindSpec {
             }
         }
     }
+}
+
+impl WindSpec {
+    /// What fitting the pattern to a `width x height` torus ([`WindSpec::field`]) makes of the
+    /// distances and direction asked: `(option, asked, used)` for each that changes by more
+    /// than one part in a million (`wind_wavelength`, `wind_spacing`, and a bimodal pattern's
+    /// `wind_angle`; a rotating pattern's wavelength along y as `wind_wavelength (y)`), in
+    /// cells and degrees. Empty for calm, uniform and patterns that fit as asked.
+    pub fn fitted(&self, width: usize, height: usize) -> Vec<(&'static str, f64, f64)> {
+        let (wf, hf) = (width as f64, height as f64);
+        let tile = |l: f64, n: f64| n / (n / l).round().max(1.0);
+        let mut out = Vec::new();
+        let mut keep = |name: &'static str, asked: f64, used: f64| {
+            if (used - asked).abs() > 1e-6 * asked.abs().max(1.0) {
+                out.push((name, asked, used));
+            }
+        };
+        match *self {
+            WindSpec::Calm | WindSpec::Uniform { .. } => {}
+            WindSpec::Bimodal {
+                angle_deg,
+                wavelength,
+                ..
+            } => {
+                let (qx, qy) = periodic_wave(angle_deg + 90.0, wavelength, wf, hf);
+                keep("wind_wavelength", wavelength, TAU / qx.hypot(qy));
+                // the bands' direction, the one of the two opposite ones nearest that asked
+                let across = qy.atan2(qx).to_degrees() - 90.0;
+                let used = angle_deg + (across - angle_deg + 90.0).rem_euclid(180.0) - 90.0;
+                keep("wind_angle", angle_deg, used);
+            }
+            WindSpec::Converging {
+                wavelength,
+                spacing,
+                ..
+            } => {
+                keep("wind_wavelength", wavelength, tile(wavelength, wf));
+                keep("wind_spacing", spacing, tile(spacing, hf));
+            }
+            WindSpec::Rotating { wavelength, .. } => {
+                keep("wind_wavelength", wavelength, tile(wavelength, wf));
+                keep("wind_wavelength (y)", wavelength, tile(wavelength, hf));
+            }
+        }
+        out
+    }
+}
+
+/// A distance in cells as a message shows it: whole cells plainly, others to 4 digits.
+fn shown_cells(v: f64) -> String {
+    if v.fract() == 0.0 {
+        format!("{v}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// Checks that every pixel of a palette PNG names an entry of its palette (the decoder expands
+/// an index beyond the palette to black, which would read as calm air): `Err(reason)` naming
+/// the first pixel that does not; `Ok` for other images and for bytes it cannot read (whose
+/// error the decoding itself reports).
+fn check_palette_indices(bytes: &[u8]) -> Result<(), String> {
+    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::IDENTITY);
+    let Ok(mut reader) = decoder.read_info() else {
+        return Ok(());
+    };
+    let info = reader.info();
+    if info.color_type != png::ColorType::Indexed {
+        return Ok(());
+    }
+    let entries = info.palette.as_ref().map_or(0, |p| p.len() / 3);
+    let bits = match info.bit_depth {
+        png::BitDepth::One => 1,
+        png::BitDepth::Two => 2,
+        png::BitDepth::Four => 4,
+        _ => 8,
+    };
+    let (w, h) = (info.width as usize, info.height as usize);
+    let Some(size) = reader.output_buffer_size() else {
+        return Ok(());
+    };
+    let mut buf = vec![0u8; size];
+    let Ok(frame) = reader.next_frame(&mut buf) else {
+        return Ok(());
+    };
+    for r in 0..h {
+        let row = &buf[r * frame.line_size..];
+        for x in 0..w {
+            let bit = x * bits;
+            let byte = row[bit / 8];
+            let index = (byte >> (8 - bits - bit % 8)) & ((1u16 << bits) - 1) as u8;
+            if usize::from(index) >= entries {
+                return Err(format!(
+                    "pixel (column {x}, row {r} from the top) has palette index {index}, beyond \
+                     the palette's {entries} entries: the image is damaged"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Radius of the calm-ward core of a rotating node, cells.

@@ -311,27 +311,23 @@ impl Lattice {
             });
         }
         for (axis, value, edge) in [("width", width, boundary.x), ("height", height, boundary.y)] {
-            if edge == Edge::Periodic && value < 3 {
+            // (a hexagonal lattice periodic in y takes an even row count: at least 4)
+            let min = if hood == Neighbourhood::Hex && axis == "height" {
+                4
+            } else {
+                3
+            };
+            if edge == Edge::Periodic && value < min {
                 return Err(LatticeError::TooSmallForTorus {
                     axis,
                     value,
-                    min: 3,
+                    min,
                     lattice: hood,
                 });
             }
         }
-        if hood == Neighbourhood::Hex && boundary.y == Edge::Periodic {
-            if height % 2 == 1 {
-                return Err(LatticeError::OddHexRows(height));
-            }
-            if height < 4 {
-                return Err(LatticeError::TooSmallForTorus {
-                    axis: "height",
-                    value: height,
-                    min: 4,
-                    lattice: hood,
-                });
-            }
+        if hood == Neighbourhood::Hex && boundary.y == Edge::Periodic && height % 2 == 1 {
+            return Err(LatticeError::OddHexRows(height));
         }
         let mut delta = [[0i64; 8]; 2];
         for (parity, d) in delta.iter_mut().enumerate() {
@@ -688,6 +684,12 @@ mod tests {
         assert!(e.to_string().contains("width = 0"));
         let e = Lattice::new(Neighbourhood::Square8, 2, 7, Boundary::TORUS).unwrap_err();
         assert!(e.to_string().contains("at least 3"));
+        // A hexagonal torus takes at least 4 rows (an even count): 2 and 3 are named as too
+        // few, not 3 offered as the least.
+        for h in [2, 3] {
+            let e = Lattice::new(Neighbourhood::Hex, 8, h, Boundary::TORUS).unwrap_err();
+            assert!(e.to_string().contains("at least 4"), "{h}: {e}");
+        }
         // Odd rows are fine with walls in y.
         assert!(Lattice::new(Neighbourhood::Hex, 8, 7, Boundary::CHANNEL).is_ok());
         // The smallest legal lattices.

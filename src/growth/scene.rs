@@ -514,7 +514,7 @@ impl SceneConfig {
                 "size",
                 format!("{}x{} ({cells} cells)", self.width, self.height),
                 format!(
-                    "at most {} cells (2^28 - 1) for a growth run, e.g. 16383x16383",
+                    "at most {} cells (2^28 - 1) for a growth run, e.g. 16382x16382 (an even row count, as a hexagonal torus takes)",
                     crate::growth::state::MAX_GROWTH_CELLS
                 ),
             ));
