@@ -88,7 +88,10 @@ fn parse() -> Cli {
     }
     let matches = command
         .clone()
-        .try_get_matches_from(cmd::conv::negative_words_joined(std::env::args_os()))
+        .try_get_matches_from(cmd::conv::negative_words_joined(
+            std::env::args_os(),
+            |word| cmd::conv::takes_value(&command, word),
+        ))
         .unwrap_or_else(|e| cmd::conv::plain_parse_error(&mut command, e).exit());
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some((name, sub)) = matches.subcommand() {
@@ -101,6 +104,14 @@ fn parse() -> Cli {
 }
 
 fn main() -> ExitCode {
+    // A write past a file-size limit (`ulimit -f`) is an error that removes its temporary
+    // file, not a signal that kills the process and leaves it.
+    #[cfg(unix)]
+    // SAFETY: sets one signal's disposition to "ignore" before any thread of the program
+    // starts; no handler runs.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     // Ctrl-C or SIGTERM: no temporary output file is left behind (and an output written in
     // place says what was left).
     let _ = ctrlc::set_handler(|| cmd::conv::interrupted());

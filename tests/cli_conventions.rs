@@ -221,8 +221,9 @@ fn unknown_extension_and_wrong_scenario_model_are_refused_by_name() {
 
 /// Every output of a run is moved into place only when the whole run succeeded: a run that
 /// fails on a later output leaves none of the others (and no temporary file). The write fails
-/// for real: a file-size limit (`ulimit -f`, with the signal it raises ignored so that the
-/// write returns an error) that the picture, written first, fits and the `.npy` does not.
+/// for real: a file-size limit (`ulimit -f`) that the picture, written first, fits and the
+/// `.npy` does not (the program ignores the signal the limit raises, SIGXFSZ, which would
+/// otherwise kill it with its temporary file left).
 #[test]
 fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     let dir = tmp_in("conventions", "late_failure");
@@ -240,9 +241,7 @@ fn a_run_that_fails_late_leaves_none_of_its_outputs() {
     let run = |limit: &str| {
         std::process::Command::new("sh")
             .arg("-c")
-            .arg(format!(
-                "trap '' XFSZ; ulimit -f {limit}; exec \"$0\" {args}"
-            ))
+            .arg(format!("ulimit -f {limit}; exec \"$0\" {args}"))
             .arg(env!("CARGO_BIN_EXE_cellsurf"))
             .output()
             .expect("run cellsurf under sh")
@@ -430,7 +429,7 @@ fn unused_options_and_impossible_scenarios_are_refused_by_name() {
                 "--scenario",
                 both.to_str().unwrap(),
             ],
-            "sea_level, sea_quantile",
+            "sea_level (the scenario's), sea_quantile (the scenario's) are given together",
         ),
         (vec!["cursor", "--k", "5", "--print-scenario"], "--k = 5"),
         (

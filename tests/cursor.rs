@@ -798,6 +798,93 @@ mod cli {
             .unwrap()
     }
 
+    /// A fitted pattern is said in one warning, whatever --quiet says, naming each value as it
+    /// was given (flag or scenario key); a value a scenario gave that the run refuses is named
+    /// by its key; the default radius refused on a small torus says it is the default.
+    #[test]
+    fn fitted_patterns_and_scenario_values_are_said_as_given() {
+        let o = cellsurf(&[
+            "--wind-field",
+            "bimodal",
+            "--wind-wavelength",
+            "40",
+            "--wind-angle",
+            "60",
+            "--size",
+            "50x50",
+            "--steps",
+            "10",
+            "--quiet",
+        ]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(
+            e.contains("35.3553 cells apart (--wind-wavelength = 40)")
+                && e.contains("its bands run at 45.0000 deg (--wind-angle = 60; the winds' resultant stays at 60 deg)"),
+            "{e}"
+        );
+        // whole periods: nothing said
+        let o = cellsurf(&[
+            "--wind-field",
+            "bimodal",
+            "--wind-wavelength",
+            "40",
+            "--wind-angle",
+            "90",
+            "--size",
+            "120x50",
+            "--steps",
+            "10",
+            "--quiet",
+        ]);
+        assert!(
+            o.stderr.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let o = cellsurf(&[
+            "--wind-field",
+            "converging",
+            "--size",
+            "40",
+            "--steps",
+            "10",
+        ]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.starts_with("error: in --wind-field converging: --wind-radius = 25 (the default) is out of range: expected 1 to 20 cells"),
+            "{e}"
+        );
+        let dir = std::env::temp_dir().join(format!("cellsurf-cursor-keys-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text, want) in [
+            (
+                "scale.toml",
+                "model = \"cursor\"\nwind_scale = 2.0\n",
+                "error: wind_scale (the scenario's) = 2 applies to a --wind-image only",
+            ),
+            (
+                "seas.toml",
+                "model = \"cursor\"\nsea_level = 5.0\nsea_fraction = 0.2\n",
+                "error: sea_level (the scenario's), sea_fraction (the scenario's) are given together",
+            ),
+            (
+                "spread.toml",
+                "model = \"cursor\"\nwind_field = \"uniform\"\nwind_spread = 100.0\n",
+                "error: wind_spread (the scenario's) does not apply to --wind-field uniform",
+            ),
+        ] {
+            let p = dir.join(name);
+            std::fs::write(&p, text).unwrap();
+            let o = cellsurf(&["--scenario", p.to_str().unwrap(), "--steps", "10"]);
+            let e = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{e}");
+            assert!(e.starts_with(want), "{name}: {e}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// The JSON summary of a run that must succeed.
     fn json(args: &[&str]) -> serde_json::Value {
         let out = cellsurf(args);

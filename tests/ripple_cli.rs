@@ -1954,6 +1954,52 @@ fn an_earlier_runs_npy_fields_are_not_left_beside_a_new_one() {
     std::fs::write(tmp("stale_notes.npy"), b"x").unwrap();
     run("elevation");
     assert!(!tmp("stale_impedance.npy").exists() && tmp("stale_notes.npy").exists());
+    // nor is a field file the earlier sidecar does not list (the user's own)
+    std::fs::write(tmp("stale_density.npy"), b"mine").unwrap();
+    run("elevation,porosity");
+    run("elevation");
+    assert!(!tmp("stale_porosity.npy").exists() && tmp("stale_density.npy").exists());
+    // a run that fails leaves the earlier set whole: its fields are removed only once the new
+    // files are in place (here the grain sizes pass a file-size limit the elevation fits)
+    run("elevation,porosity,impedance");
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--quiet",
+        "--fields",
+        "elevation,grain_size",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let o = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -f 8; exec \"$0\" {}", args.join(" ")))
+        .arg(env!("CARGO_BIN_EXE_cellsurf"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("stale_grain_size.npy"), "{err}");
+    assert!(tmp("stale_porosity.npy").exists() && tmp("stale_impedance.npy").exists());
+    assert!(!tmp("stale_grain_size.npy").exists());
+    // the removal is said
+    let mut args = SMALL.to_vec();
+    args.extend([
+        "--fields",
+        "elevation,grain_size",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(cellsurf(&args).status.success());
+    let mut args = SMALL.to_vec();
+    args.extend(["--fields", "elevation", "--out", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&cellsurf(&args).stderr).into_owned();
+    assert!(
+        err.contains(&format!(
+            "removed {}",
+            tmp("stale_grain_size.npy").display()
+        )),
+        "{err}"
+    );
 }
 
 /// What a scenario file or a flag asks for that the run would not do is refused or said,
@@ -2077,7 +2123,28 @@ fn scenario_waves_bins_and_idle_angles_are_said() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
-        err.contains("warning: the scenario's bin_size, layer_thickness and layers change with its bin_travels"),
+        err.contains(
+            "warning: the scenario's bin_size, layer_thickness, layers change with its bin_travels"
+        ),
+        "{err}"
+    );
+    // typed, the automata are kept and only the bin changes
+    let o = cellsurf(&[
+        "ripple",
+        "--scenario",
+        p.to_str().unwrap(),
+        "--d50",
+        "0.4",
+        "--layers",
+        "20",
+        "--layer-thickness",
+        "0.0002",
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning: the scenario's bin_size changes with its bin_travels"),
         "{err}"
     );
     // unchanged (the scenario's own grain): nothing to say
@@ -2087,4 +2154,20 @@ fn scenario_waves_bins_and_idle_angles_are_said() {
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
+    // a scenario that gives no bin of its own: the bin of travels is a note, not a change
+    let p = tmp("travels_only.toml");
+    std::fs::write(
+        &p,
+        "model = \"ripple\"\nmode = \"2d\"\nnx = 32\nny = 1\nsteps = 20\nbin_travels = 0.75\nhop_grains = 4.6875\n",
+    )
+    .unwrap();
+    let o = cellsurf(&["ripple", "--scenario", p.to_str().unwrap(), "--quiet"]);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = cellsurf(&["ripple", "--scenario", p.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("note: bins of 0.75 flat-bed travels"), "{err}");
 }

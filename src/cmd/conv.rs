@@ -44,6 +44,27 @@ static ON_INTERRUPT: Mutex<Vec<(u64, String)>> = Mutex::new(Vec::new());
 /// Library parameter names that are not the flag's id (e.g. `width` for `--size`).
 static SYNONYMS: Mutex<Vec<(&'static str, &'static str)>> = Mutex::new(Vec::new());
 
+/// The top-level keys of the scenario file typed as `--scenario` (none without one, or where
+/// it cannot be read as TOML: its own error says so).
+pub fn scenario_keys() -> Vec<String> {
+    let Some(inv) = INVOCATION.get() else {
+        return Vec::new();
+    };
+    let Some(path) = inv
+        .matches
+        .try_get_one::<std::path::PathBuf>("scenario")
+        .ok()
+        .flatten()
+    else {
+        return Vec::new();
+    };
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+        .map(|t| t.keys().cloned().collect())
+        .unwrap_or_default()
+}
+
 /// Records the subcommand's definition and matches, for [`typed`] and [`typed_flag`].
 pub fn init(command: Command, matches: ArgMatches, words: Vec<String>) {
     let _ = INVOCATION.set(Invocation {
@@ -137,9 +158,12 @@ pub fn shown_outside(v: f64, lo: f64, hi: f64) -> String {
 /// a minus sign followed by a digit or a point (no option of the command line is spelt so).
 /// The parser takes such words for short flags otherwise (it knows only the plainest
 /// negative numbers), and refuses them without naming the option, where a negative number is
-/// the option's to refuse.
+/// the option's to refuse. Only an option that takes a value (`takes_value(word)`, the word
+/// as typed: `--n`, `-w`) is joined to: after a switch (`--quiet -5`) the word is left to the
+/// parser.
 pub fn negative_words_joined(
     args: impl IntoIterator<Item = std::ffi::OsString>,
+    takes_value: impl Fn(&str) -> bool,
 ) -> Vec<std::ffi::OsString> {
     let mut out: Vec<std::ffi::OsString> = Vec::new();
     for w in args {
@@ -161,6 +185,7 @@ pub fn negative_words_joined(
             && let Some(prev) = out.last_mut()
             && let Some(p) = prev.to_str()
             && option(p)
+            && takes_value(p)
         {
             let mut joined = std::ffi::OsString::from(format!("{p}="));
             joined.push(&w);
@@ -170,6 +195,21 @@ pub fn negative_words_joined(
         out.push(w);
     }
     out
+}
+
+/// Whether `word` (`--long` or `-s`) is an option of some subcommand of `command` that takes
+/// a value (for [`negative_words_joined`]).
+pub fn takes_value(command: &Command, word: &str) -> bool {
+    command
+        .get_subcommands()
+        .flat_map(|sc| sc.get_arguments())
+        .any(|a| {
+            a.get_action().takes_values()
+                && match word.strip_prefix("--") {
+                    Some(long) => a.get_long() == Some(long),
+                    None => word.strip_prefix('-').and_then(|s| s.chars().next()) == a.get_short(),
+                }
+        })
 }
 
 /// Sets `--quiet` for [`wrote`] and [`note`].
@@ -583,6 +623,12 @@ pub fn finish(result: Result<()>) -> std::process::ExitCode {
             if !quiet() {
                 for f in written() {
                     err_line(format_args!("wrote {f}"));
+                }
+                for f in cellsurf::engine::io::take_retired() {
+                    err_line(format_args!(
+                        "removed {} (written by an earlier run into the set this run replaced)",
+                        f.display()
+                    ));
                 }
             }
             std::process::ExitCode::SUCCESS
@@ -1459,13 +1505,13 @@ fn flagged(msg: &str) -> String {
         };
     }
     // a value named as its flag that the scenario file gave, not the command line: its key
-    let value = rest.split_once(' ').map_or(rest, |(v, _)| v);
-    // (a message that says where its value came from already is left as it is)
+    // a key the scenario file holds, not typed: its value is the file's (a message that says
+    // where its value came from already is left as it is)
     let marked = rest.contains("(the default)") || rest.contains("scenario");
     if (name.starts_with("--") || synonym.is_some())
-        && typed("scenario")
+        && !typed(id)
         && !marked
-        && set_by_scenario(id, value)
+        && scenario_keys().iter().any(|k| k == id)
     {
         return match synonym {
             Some(_) => format!("{id} ({name}) = {rest} (the scenario file's {id})"),
@@ -1494,7 +1540,7 @@ mod tests {
     #[test]
     fn negative_words_join_their_option() {
         let words = |v: &[&str]| v.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
-        let joined = |v: &[&str]| negative_words_joined(words(v));
+        let joined = |v: &[&str]| negative_words_joined(words(v), |o| o != "--quiet");
         assert_eq!(
             joined(&["cellsurf", "grow", "--n", "-inf", "--steps", "-NaN"]),
             words(&["cellsurf", "grow", "--n=-inf", "--steps=-NaN"])
@@ -1520,6 +1566,8 @@ mod tests {
             &["x", "--a", "-infx"],
             &["x", "--a", "-q"],
             &["x", "--a", "-"],
+            // a switch takes no value: the word is the parser's
+            &["x", "--quiet", "-5"],
             &["x", "--a", "5,-inf"],
         ] {
             assert_eq!(joined(kept), words(kept), "{kept:?}");

@@ -201,6 +201,15 @@ fn flag(name: &str) -> String {
     format!("--{}", name.replace('_', "-"))
 }
 
+/// An option as the run was given it: its flag as typed, else its key in the scenario file
+/// (`wind_spread (the scenario's)`).
+fn given_as(name: &str) -> String {
+    match conv::typed_flag(name).filter(|_| conv::typed(name)) {
+        Some(f) => f,
+        None => format!("{name} (the scenario's)"),
+    }
+}
+
 /// The generator from the options: the article's settings ([`WindSpec::article`]) with each
 /// given option applied; an option the generator does not take is an error.
 fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
@@ -209,7 +218,7 @@ fn spec(g: Generator, a: &Args) -> Result<WindSpec> {
         let takes: Vec<String> = s.options().iter().map(|t| flag(t)).collect();
         anyhow::anyhow!(
             "{} does not apply to --wind-field {}: it takes {}",
-            flag(bad),
+            given_as(bad),
             g.name(),
             if takes.is_empty() {
                 "no options".to_string()
@@ -288,8 +297,9 @@ pub fn run(a: Args) -> Result<()> {
     // refuses: two sources of wind, or two sea levels.
     if a.wind_image.is_some() && a.wind_field.is_some() {
         bail!(
-            "wind_image and wind_field are both given (a scenario file and the command line \
-             together): the wind comes from one of them; remove the other"
+            "{} and {} are both given: the wind comes from one of them; remove the other",
+            given_as("wind_image"),
+            given_as("wind_field")
         );
     }
     let seas = [
@@ -297,11 +307,10 @@ pub fn run(a: Args) -> Result<()> {
         a.sea_fraction.map(|_| "sea_fraction"),
         a.sea_quantile.map(|_| "sea_quantile"),
     ];
-    let seas: Vec<&str> = seas.into_iter().flatten().collect();
+    let seas: Vec<String> = seas.into_iter().flatten().map(given_as).collect();
     if seas.len() > 1 {
         bail!(
-            "{} are given together (a scenario file and the command line): the sea level \
-             is set by one of them; remove the others",
+            "{} are given together: the sea level is set by one of them; remove the others",
             seas.join(", ")
         );
     }
@@ -355,20 +364,32 @@ pub fn run(a: Args) -> Result<()> {
         }
         (None, g) => {
             if a.wind_scale != 1.0 {
-                bail!("--wind-scale applies to a --wind-image only");
+                bail!(
+                    "{} = {} applies to a --wind-image only",
+                    given_as("wind_scale"),
+                    a.wind_scale
+                );
             }
             let g = g.unwrap_or(Generator::Calm);
             let s = spec(g, &a)?;
             let (w, h) = size.unwrap_or(DEFAULT_SIZE);
-            let field = s
-                .field(w, h)
-                .with_context(|| format!("in --wind-field {}", g.name()))?;
+            let field = s.field(w, h).map_err(|e| match e {
+                // (a parameter: named by its flag and where its value came from)
+                e @ cellsurf::cursor::CursorError::Parameter { .. } => anyhow::anyhow!(
+                    "in --wind-field {}: {}",
+                    g.name(),
+                    flagged(&e.to_string(), &a)
+                ),
+                e => anyhow::Error::new(e).context(format!("in --wind-field {}", g.name())),
+            })?;
             // the pattern fits the torus: a distance or direction given (typed or by the
             // scenario) that it changes is said, whatever --quiet says
+            let mut parts = Vec::new();
+            let mut angle_changed = false;
             for (name, asked, used) in s.fitted(w, h) {
                 let (option, axis) = match name.split_once(' ') {
-                    Some((o, axis)) => (o, format!(" {axis}")),
-                    None => (name, String::new()),
+                    Some((o, _)) => (o, " along y"),
+                    None => (name, ""),
                 };
                 let given = match option {
                     "wind_wavelength" => a.wind_wavelength.is_some(),
@@ -379,11 +400,36 @@ pub fn run(a: Args) -> Result<()> {
                 if !given {
                     continue;
                 }
-                let flag = conv::typed_flag(option)
-                    .unwrap_or_else(|| format!("--{}", option.replace('_', "-")));
+                let asked_as = match conv::typed_flag(option).filter(|_| conv::typed(option)) {
+                    Some(flag) => format!("{flag} = {asked}"),
+                    None => format!("the scenario's {option} = {asked}"),
+                };
+                let along_x = if matches!(g, Generator::Bimodal) || !axis.is_empty() {
+                    axis
+                } else if option == "wind_spacing" {
+                    " along y"
+                } else {
+                    " along x"
+                };
+                parts.push(if option == "wind_angle" {
+                    angle_changed = true;
+                    format!(
+                        "its bands run at {used:.4} deg ({asked_as}; the winds' resultant stays at {asked} deg)"
+                    )
+                } else {
+                    format!("{used:.4} cells apart{along_x} ({asked_as})")
+                });
+            }
+            if !parts.is_empty() {
                 conv::changed(format_args!(
-                    "warning: {flag} = {asked}{axis} becomes {used:.4} on the {w} x {h} torus: the --wind-field {} pattern repeats a whole number of times across it (give a --size that holds whole periods to keep it)",
-                    g.name()
+                    "warning: --wind-field {} repeats a whole number of times across the {w} x {h} torus: {}{}",
+                    g.name(),
+                    parts.join(", "),
+                    if angle_changed {
+                        ""
+                    } else {
+                        " (a --size that holds whole periods of it keeps them)"
+                    }
                 ));
             }
             (field, Source::Generator(s))

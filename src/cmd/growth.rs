@@ -627,9 +627,14 @@ pub fn grow(scene: SceneKind, a: GrowArgs) -> Result<()> {
         && !by_events
     {
         bail!(
-            "{} {} needs at least one snapshot (--snapshots)",
+            "{} {} needs at least one snapshot ({})",
             conv::typed_flag("out").unwrap_or_else(|| "--out".into()),
-            p.display()
+            p.display(),
+            if a.snapshots.is_none() && conv::scenario_keys().iter().any(|k| k == "snapshots") {
+                "the scenario's snapshots = [] gives none: give --snapshots"
+            } else {
+                "--snapshots"
+            }
         );
     }
     conv::begin();

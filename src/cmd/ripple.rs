@@ -858,10 +858,28 @@ fn params_from(
         // (a printed scenario shows the bin itself)
         // a scenario file's own bin, automata and layers are values the run was given: their
         // change is said whatever --quiet says (a recipe's are its fallbacks, a note)
-        let lead = if a.scenario.is_some() {
-            "warning: the scenario's bin_size, layer_thickness and layers change with its bin_travels:"
+        let keys = conv::scenario_keys();
+        let changed: Vec<String> = [
+            ("bin_size", a.bin_size.is_some(), p.bin_size != b),
+            (
+                "layer_thickness",
+                a.layer_thickness.is_some(),
+                p.layer_thickness != t,
+            ),
+            ("layers", a.layers.is_some(), p.layers != layers),
+        ]
+        .into_iter()
+        .filter(|&(k, typed, differs)| differs && !typed && keys.iter().any(|x| x == k))
+        .map(|(k, _, _)| k.to_string())
+        .collect();
+        let lead = if changed.is_empty() {
+            "note:".to_string()
         } else {
-            "note:"
+            format!(
+                "warning: the scenario's {} change{} with its bin_travels:",
+                changed.join(", "),
+                if changed.len() == 1 { "s" } else { "" }
+            )
         };
         bin_note = (!a.print_scenario).then(|| format!(
             "{lead} bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {}; --bin-size gives another bin",

@@ -24,6 +24,11 @@ static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 static HOLD: AtomicBool = AtomicBool::new(false);
 /// Finished outputs held back: (temporary, output).
 static HELD: Mutex<Vec<(PathBuf, PathBuf)>> = Mutex::new(Vec::new());
+/// Files of an earlier output that the held outputs replace, removed once they are in place
+/// ([`retire`]).
+static RETIRING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The files [`retire`] removed, for the program to say.
+static RETIRED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// From now on, finished outputs ([`TempFile::commit`], [`publish`]) stay in their
 /// temporaries until [`publish_held`] (or [`discard_held`]).
@@ -31,10 +36,12 @@ pub fn hold_outputs() {
     HOLD.store(true, Ordering::SeqCst);
 }
 
-/// Moves every held output into place, in the order they were finished, and stops holding.
+/// Moves every held output into place, in the order they were finished, and stops holding;
+/// then, where every one is in place, removes the files they retire ([`retire`]).
 pub fn publish_held() -> io::Result<()> {
     HOLD.store(false, Ordering::SeqCst);
     let held = std::mem::take(&mut *HELD.lock().unwrap_or_else(|e| e.into_inner()));
+    let retiring = std::mem::take(&mut *RETIRING.lock().unwrap_or_else(|e| e.into_inner()));
     let mut first_err = None;
     for (tmp, out) in held {
         let r = move_into_place(&tmp, &out);
@@ -49,13 +56,54 @@ pub fn publish_held() -> io::Result<()> {
             ));
         }
     }
+    if first_err.is_none() {
+        retire_now(&retiring)?;
+    }
     first_err.map_or(Ok(()), Err)
+}
+
+/// Marks `files` (of an earlier output, which the run's outputs replace: a `.npy` set's field
+/// files that the new set does not write) for removal once the run's outputs are in place:
+/// at [`publish_held`] while outputs are held (a run that fails or is interrupted leaves them
+/// as they were), at once otherwise. Only regular files are removed.
+pub fn retire(files: &[PathBuf]) -> io::Result<()> {
+    if HOLD.load(Ordering::SeqCst) {
+        if let Ok(mut r) = RETIRING.lock() {
+            r.extend(files.iter().cloned());
+        }
+        Ok(())
+    } else {
+        retire_now(files)
+    }
+}
+
+fn retire_now(files: &[PathBuf]) -> io::Result<()> {
+    for c in files {
+        if fs::symlink_metadata(c).is_ok_and(|m| m.file_type().is_file()) {
+            fs::remove_file(c).map_err(|e| {
+                io::Error::new(
+                    e.kind(),
+                    format!("removing {}, left from an earlier run: {e}", c.display()),
+                )
+            })?;
+            if let Ok(mut r) = RETIRED.lock() {
+                r.push(c.clone());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The files [`retire`] has removed so far (emptied by the call).
+pub fn take_retired() -> Vec<PathBuf> {
+    std::mem::take(&mut *RETIRED.lock().unwrap_or_else(|e| e.into_inner()))
 }
 
 /// Removes every held output's temporary (the run failed) and stops holding; returns how many
 /// outputs were dropped.
 pub fn discard_held() -> usize {
     HOLD.store(false, Ordering::SeqCst);
+    RETIRING.lock().unwrap_or_else(|e| e.into_inner()).clear();
     let held = std::mem::take(&mut *HELD.lock().unwrap_or_else(|e| e.into_inner()));
     for (tmp, _) in &held {
         remove_path(tmp);
@@ -334,27 +382,31 @@ where
     tmp.commit(path)
 }
 
-/// Removes the files of an earlier `.npy` set that a new set, just written, does not
-/// replace: each of `candidates` (the set's possible files, `STEM.npy` and `STEM_FIELD.npy`
-/// for every field the writer knows) that is not in `written` and is a regular file. A set
-/// written over another is then the new run's alone, as a store or a NetCDF file written over
-/// another is, and its sidecar lists every file beside it. Returns the files removed; a file
-/// that cannot be removed is left, and reported as an error.
-pub fn remove_stale(candidates: &[PathBuf], written: &[PathBuf]) -> io::Result<Vec<PathBuf>> {
-    let mut removed = Vec::new();
-    for c in candidates {
-        let is_file = std::fs::symlink_metadata(c).is_ok_and(|m| m.file_type().is_file());
-        if !written.contains(c) && is_file {
-            std::fs::remove_file(c).map_err(|e| {
-                io::Error::new(
-                    e.kind(),
-                    format!("removing {}, left from an earlier run: {e}", c.display()),
-                )
-            })?;
-            removed.push(c.clone());
+/// The files of an earlier `.npy` set at `sidecar` (its JSON, `STEM.json`, as
+/// [`crate::ripple::output::write_npy`] and the tile streams write it) that a new set of the
+/// files `new` does not replace: those the old sidecar lists under `"file"`, beside it, that
+/// are not in `new`. Files the old sidecar does not list, or with no sidecar at all, are never
+/// named: only cellsurf's own outputs are retired.
+pub fn stale_npy_files(sidecar: &Path, new: &[PathBuf]) -> Vec<PathBuf> {
+    let Ok(text) = fs::read_to_string(sidecar) else {
+        return Vec::new();
+    };
+    let dir = sidecar.parent().unwrap_or(Path::new(""));
+    let mut out = Vec::new();
+    for part in text.split("\"file\": \"").skip(1) {
+        let Some((name, _)) = part.split_once('"') else {
+            continue;
+        };
+        // (a plain file name beside the sidecar, as the writers record it)
+        if name.contains(['/', '\\']) || !name.ends_with(".npy") {
+            continue;
+        }
+        let p = dir.join(name);
+        if !new.contains(&p) && !out.contains(&p) {
+            out.push(p);
         }
     }
-    Ok(removed)
+    out
 }
 
 /// Writes `bytes` to `path` atomically (see [`write_atomic_with`]).

@@ -551,9 +551,10 @@ pub fn json_string(s: &str) -> String {
 
 /// The `.npy` files of a run, next to `out` with its extension dropped: `STEM.npy` the
 /// elevation snapshots, `STEM_FIELD.npy` each volume field, and the sidecar `STEM.json`
-/// (parameters, version, shapes, units). An earlier run's files of the set that this run does
-/// not write (a field it was not asked for) are removed, so that the files beside the sidecar
-/// are this run's alone. Returns the files written.
+/// (parameters, version, shapes, units). The field files of an earlier set that its sidecar
+/// lists and this run does not write (a field it was not asked for) are removed once this
+/// run's files are in place ([`crate::engine::io::retire`]), so that the files beside the
+/// sidecar are this run's alone. Returns the files written.
 pub fn write_npy(
     out: &Path,
     r: &Ripple,
@@ -599,6 +600,8 @@ pub fn write_npy_with(
 ) -> Result<Vec<PathBuf>, RippleError> {
     let (nx, ny) = r.size();
     let paths = npy_paths(out, spec);
+    // (read before this run's sidecar replaces the earlier one)
+    let stale = crate::engine::io::stale_npy_files(paths.last().expect("a sidecar"), &paths);
     let mut written = Vec::new();
     let mut entries = Vec::new();
     for (&f, path) in spec.fields.iter().zip(&paths) {
@@ -654,12 +657,9 @@ pub fn write_npy_with(
     let side = paths.last().expect("the sidecar is the last path");
     crate::engine::io::write_atomic(side, json.as_bytes()).map_err(|e| io_err(side, e))?;
     written.push(side.clone());
-    // an earlier run's fields that this one does not write go with it
-    let all = OutputSpec {
-        fields: Field::ALL.to_vec(),
-        ..spec.clone()
-    };
-    crate::engine::io::remove_stale(&npy_paths(out, &all), &written).map_err(|e| io_err(out, e))?;
+    // an earlier run's fields that this one does not write go with it, once this run's are
+    // in place
+    crate::engine::io::retire(&stale).map_err(|e| io_err(out, e))?;
     Ok(written)
 }
 

@@ -251,7 +251,8 @@ fn check_source(src: &dyn RowSource, nz: usize) -> Result<(), TileError> {
 
 /// Streams `src` to `path` as `spec` says; `progress(rows done)` as it goes. For `.npy`,
 /// `path`'s extension is replaced (`STEM.npy`, `STEM_FIELD.npy`, `STEM.json`), and an earlier
-/// mosaic's `STEM_FIELD.npy` that this one does not write is removed. Every file is
+/// mosaic's `STEM_FIELD.npy` that its sidecar lists and this one does not write is removed
+/// once this one's files are in place ([`crate::engine::io::retire`]). Every file is
 /// written to a temporary sibling and renamed when complete; on error nothing is left behind.
 pub fn write_stream(
     path: &Path,
@@ -281,14 +282,12 @@ pub fn write_stream(
             vec![path.to_path_buf()]
         }
         StreamFormat::Npy => {
+            // an earlier mosaic's volume file (listed by its sidecar) that this one does not
+            // write goes with it, once this one's files are in place
+            let new = npy_files(path, spec.volume);
+            let stale = crate::engine::io::stale_npy_files(new.last().expect("a sidecar"), &new);
             let files = write_npy_stream(path, src, spec, nz, &mut meter, progress)?;
-            // an earlier mosaic's volume file that this one does not write goes with it
-            let candidates: Vec<PathBuf> = Field::ALL
-                .iter()
-                .flat_map(|&f| npy_files(path, Some(f).filter(|f| *f != Field::Elevation)))
-                .collect();
-            crate::engine::io::remove_stale(&candidates, &files)
-                .map_err(|e| out_err(path, e.to_string()))?;
+            crate::engine::io::retire(&stale).map_err(|e| out_err(path, e.to_string()))?;
             files
         }
         StreamFormat::Zarr => {

@@ -296,6 +296,9 @@ pub fn check_pool(tiles: &[Tile]) -> Result<(), TileError> {
         if let (Some(dt), Some(df)) = (t.sand_depth, first.sand_depth)
             && (dt - df).abs() > 1e-9 * df.abs().max(dt.abs())
         {
+            // (to the nanometre: 0.00186, not 0.0018599999999999999)
+            let nm = |v: f64| (v * 1e9).round() / 1e9;
+            let (dt, df) = (nm(dt), nm(df));
             return Err(bad(format!(
                 "sand depth {dt} m (layers x layer_thickness), first {df} m (tiles of another \
                  depth of sand meet the others in steps at their seams: make the tiles with one \
