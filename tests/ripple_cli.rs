@@ -2171,3 +2171,84 @@ fn scenario_waves_bins_and_idle_angles_are_said() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("note: bins of 0.75 flat-bed travels"), "{err}");
 }
+
+/// The recipe for mature wave ripples: every length in units of the waves' orbital excursion A
+/// (bins of A / 50, crests suspended above A / 10, the travel scaled with them), a typed bin
+/// kept; it runs until equilibrium by default; under a dominant current it is warned of.
+#[test]
+fn the_mature_waves_recipe_scales_its_lengths_with_the_orbit() {
+    let run = |period: &str, extra: &[&str]| {
+        let mut args = vec![
+            "ripple",
+            "--recipe",
+            "mature-waves",
+            "--current-speed",
+            "0",
+            "--wave-velocity",
+            "0.4",
+            "--wave-period",
+            period,
+            "--d50",
+            "0.3",
+            "--size",
+            "64x1",
+            "--duration",
+            "100s",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = cellsurf(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v, String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let p = |v: &serde_json::Value, k: &str| v["parameters"][k].as_f64().unwrap();
+    // d0 = 0.2 and 0.4 m (T = pi d0 / U_w): A = 0.1 and 0.2 m
+    let (a, note) = run("1.570796327s", &[]);
+    let (b, _) = run("3.141592654s", &[]);
+    assert_eq!(a["recipe"], "mature-waves");
+    assert!(
+        note.contains("lengths in units of the waves' orbital excursion A = 0.1000 m"),
+        "{note}"
+    );
+    for (v, excursion) in [(&a, 0.1), (&b, 0.2)] {
+        assert!((p(v, "wave_vortex") - excursion).abs() < 1e-6);
+        assert_eq!(p(v, "orbit_reference"), p(v, "wave_vortex"));
+        assert!((p(v, "bin_size") - excursion / 50.0).abs() < 1e-8, "{v}");
+        assert!((p(v, "layer_thickness") - excursion / 500.0).abs() < 1e-9);
+        assert!((p(v, "crest_suspension") - excursion / 10.0).abs() < 1e-8);
+        assert!((p(v, "hop_grains") - 37.5 * excursion).abs() < 1e-6);
+    }
+    // a typed bin is kept, its automata a tenth of it; the travel and the crest height follow A
+    let (c, _) = run("1.570796327s", &["--bin-size", "0.003"]);
+    assert_eq!(
+        (p(&c, "bin_size"), p(&c, "layer_thickness")),
+        (0.003, 0.0003)
+    );
+    assert!((p(&c, "crest_suspension") - 0.01).abs() < 1e-8);
+    // a current that dominates: warned, and the lengths are the file's
+    let o = cellsurf(&[
+        "ripple",
+        "--recipe",
+        "mature-waves",
+        "--current-speed",
+        "0.5",
+        "--wave-velocity",
+        "0.1",
+        "--wave-period",
+        "4s",
+        "--size",
+        "64x1",
+        "--duration",
+        "100s",
+        "--json",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("warning: --recipe mature-waves is for waves: here the current dominates"),
+        "{e}"
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(p(&v, "bin_size"), 0.0025);
+}

@@ -54,10 +54,13 @@ pub struct Args {
     /// growing, with slip faces: a 2-D section of 1024 bins of 0.75 flat-bed travels of the
     /// median grain, 1.86 mm for 0.2 mm sand at 0.5 m/s, automata a tenth of the bin, 10 cm of
     /// sand, run until equilibrium, at most 6 h; docs/ripple.md, "A recipe for mature current
-    /// ripples") or paper (the paper's rules in its Fig. 3 situation: 3-D, 128x64 bins of 5
-    /// mm, 30 automata of 0.5 mm, 10000 steps; its current ripples coarsen without end);
-    /// options typed here override it. `--print-scenario` shows its keys [default:
-    /// mature-current; paper where the waves' bed stress exceeds the current's].
+    /// ripples"), mature-waves (wave ripples that follow the orbit and stop growing: the
+    /// recipe's rules with every length in units of the waves' orbital excursion A, bins of A /
+    /// 50, run until equilibrium; docs/ripple.md, "A recipe for mature wave ripples") or paper
+    /// (the paper's rules in its Fig. 3 situation: 3-D, 128x64 bins of 5 mm, 30 automata of
+    /// 0.5 mm, 10000 steps; its current ripples coarsen without end); options typed here
+    /// override it. `--print-scenario` shows its keys [default: mature-current; paper where
+    /// the waves' bed stress exceeds the current's].
     #[arg(long, value_name = "NAME", conflicts_with = "scenario")]
     recipe: Option<Recipe>,
     /// 2d (one section along the current) or 3d [default: the recipe's (mature-current 2d,
@@ -794,9 +797,19 @@ fn params_from(
         .filter(|&r| r == Recipe::MatureCurrent && p.waves_dominate())
     {
         conv::note(format_args!(
-            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and under waves its ripples do not follow the orbit (0.3 mm sand, U_w = 0.4 m/s, 8000 s: 2.3 and 0.74 times the wave predictor's 0.62 d0 at d0 = 0.2 and 0.4 m; docs/ripple.md, \"A recipe for mature current ripples\"); without --recipe such a run starts from the paper's rules with the lee vortex",
+            "warning: --recipe {r} is for currents: here the waves dominate (waves rubbing the bed like {:.3} m/s against --current-speed = {} m/s), and under waves its ripples do not follow the orbit (0.3 mm sand, U_w = 0.4 m/s, 8000 s: 2.3 and 0.74 times the wave predictor's 0.62 d0 at d0 = 0.2 and 0.4 m; docs/ripple.md, \"A recipe for mature current ripples\"); without --recipe such a run starts from the paper's rules with the lee vortex, and --recipe mature-waves gives wave ripples that follow the orbit",
             p.wave_stress_amplitude(),
             p.current_speed
+        ));
+    }
+    if let Some(r) = a
+        .recipe
+        .filter(|&r| r == Recipe::MatureWaves && !p.waves_dominate())
+    {
+        conv::note(format_args!(
+            "warning: --recipe {r} is for waves: here the current dominates (--current-speed = {} m/s against waves rubbing the bed like {:.3} m/s), and its lengths follow the orbit only where the waves dominate (docs/ripple.md, \"A recipe for mature wave ripples\")",
+            p.current_speed,
+            p.wave_stress_amplitude()
         ));
     }
     // (the recipe for mature current ripples says so in its own warning)
@@ -822,6 +835,66 @@ fn params_from(
             "warning: suspension_exponent = {} has no effect: crest suspension is off (crest_suspension, crest_suspension_grains and crest_suspension_hops are 0)",
             p.suspension_exponent
         ));
+    }
+    // lengths in units of the waves' orbital excursion (`orbit_reference`, the recipe for
+    // mature wave ripples'): a typed --bin-size or --layer-thickness wins
+    if let Some(s) = p.orbit_scale().filter(|&s| s != 1.0) {
+        let q = p.with_orbit_scale();
+        let keys = conv::scenario_keys();
+        let mut changed = Vec::new();
+        let mut set = |key: &str, typed: bool, to: f64, slot: &mut f64| {
+            if !typed && *slot != to {
+                if keys.iter().any(|k| k == key) {
+                    changed.push(key.to_string());
+                }
+                *slot = to;
+            }
+        };
+        set(
+            "bin_size",
+            a.bin_size.is_some(),
+            q.bin_size,
+            &mut p.bin_size,
+        );
+        set(
+            "layer_thickness",
+            a.layer_thickness.is_some() || a.bin_size.is_some(),
+            q.layer_thickness,
+            &mut p.layer_thickness,
+        );
+        set("hop_grains", false, q.hop_grains, &mut p.hop_grains);
+        set(
+            "crest_suspension",
+            false,
+            q.crest_suspension,
+            &mut p.crest_suspension,
+        );
+        let lead = if changed.is_empty() {
+            "note:".to_string()
+        } else {
+            format!(
+                "warning: the scenario's {} change{} with its orbit_reference:",
+                changed.join(", "),
+                if changed.len() == 1 { "s" } else { "" }
+            )
+        };
+        let msg = format!(
+            "{lead} lengths in units of the waves' orbital excursion A = {} m ({s:.4} x those of orbit_reference = {} m): --bin-size = {} m, --layer-thickness = {} m, hop_grains = {}, crest_suspension = {} m, a section of {} m",
+            cellsurf::ripple::params::rounded(p.wave_vortex),
+            cellsurf::ripple::params::shown(p.orbit_reference),
+            cellsurf::ripple::params::shown(p.bin_size),
+            cellsurf::ripple::params::shown(p.layer_thickness),
+            cellsurf::ripple::params::shown(p.hop_grains),
+            cellsurf::ripple::params::shown(p.crest_suspension),
+            cellsurf::ripple::params::rounded(p.bin_size * p.nx as f64),
+        );
+        p.orbit_reference = q.orbit_reference;
+        if !a.print_scenario {
+            bin_note = Some(match bin_note {
+                Some(n) => format!("{n}\n{msg}"),
+                None => msg,
+            });
+        }
     }
     // the bin in flat-bed travels (`bin_travels`, the recipe's): a typed --bin-size wins; the
     // automata and layers follow unless typed (the note once the run is valid)

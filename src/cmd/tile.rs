@@ -292,7 +292,7 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
             ..p
         }
     } else {
-        p.with_travel_bin()
+        p.with_orbit_scale().with_travel_bin()
     };
     // tiles are 3-D fields: a scenario of a 2-D section (as `cellsurf ripple --print-scenario`
     // writes for its default) would make tiles of one row

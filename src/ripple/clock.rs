@@ -129,7 +129,7 @@ impl StepClock {
     /// The clock of the run `p` (module docs).
     pub fn of(p: &RippleParams) -> Result<StepClock, RippleError> {
         // the run's own bin ([`RippleParams::with_travel_bin`])
-        let p = &p.with_travel_bin();
+        let p = &p.with_orbit_scale().with_travel_bin();
         let (travel, eps) = flat_bed_travel(p)?;
         let bedload = mean_bedload(p);
         let per_step = p.activity * p.layers as f64 * p.layer_thickness * (1.0 - eps) * travel;
@@ -243,7 +243,7 @@ fn patch_stream(p: &RippleParams) -> u64 {
 /// porosity of that (initial) bed.
 pub fn flat_bed_travel(p: &RippleParams) -> Result<(f64, f64), RippleError> {
     // on the run's own bin ([`RippleParams::with_travel_bin`])
-    let q = patch(&p.with_travel_bin());
+    let q = patch(&p.with_orbit_scale().with_travel_bin());
     let (nx, ny) = (q.nx, q.rows());
     let h0 = q.layers.max(1);
     let mut r = Ripple::from_heights_seeded(&q, &vec![h0; nx * ny], patch_stream(p))?;

@@ -60,6 +60,7 @@ pub mod grain;
 pub mod input;
 pub mod model;
 pub mod morphometry;
+pub mod orbit;
 pub mod output;
 pub mod params;
 pub mod predictors;

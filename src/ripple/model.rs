@@ -96,7 +96,7 @@ impl Ripple {
     pub fn new(p: &RippleParams) -> Result<Self, RippleError> {
         p.validate()?;
         // the bin in flat-bed travels, where `bin_travels` asks for it
-        let p = &p.with_travel_bin();
+        let p = &p.with_orbit_scale().with_travel_bin();
         p.validate()?;
         let mut rng = rng::stream(p.seed);
         let r = p.roughness as i64;

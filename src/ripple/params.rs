@@ -256,6 +256,16 @@ pub struct RippleParams {
     /// Default 0.
     #[serde(skip_serializing_if = "is_zero")]
     pub bin_travels: f64,
+    /// Lengths in units of the waves' orbital excursion (opt-in), m: `bin_size`,
+    /// `layer_thickness`, `hop_grains` and `crest_suspension` are those for waves of orbital
+    /// excursion amplitude `A = orbit_reference`, and a run whose waves dominate and have the
+    /// lee vortex, whose reach is their amplitude (`wave_vortex`), scales the four by
+    /// `wave_vortex / orbit_reference` and records `orbit_reference = wave_vortex`
+    /// ([`RippleParams::with_orbit_scale`]; docs/ripple.md, "A recipe for mature wave
+    /// ripples"). Every length of the rules then follows the orbit. 0 or 1e-3..=100 (0: off).
+    /// Left out of files when 0. Default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub orbit_reference: f64,
     /// Crest suspension (opt-in), m: a grain that the flow has moved (at least one hop,
     /// outside the lee vortex) from a column whose top stood `zeta` metres above the bed's
     /// mean level was suspended with probability `min(1, (zeta / crest_suspension)^n)` (`n` the
@@ -374,6 +384,7 @@ impl Default for RippleParams {
             hop_length: 1.5,
             hop_grains: 0.0,
             bin_travels: 0.0,
+            orbit_reference: 0.0,
             crest_suspension: 0.0,
             crest_suspension_grains: 0.0,
             crest_suspension_hops: 0.0,
@@ -410,6 +421,7 @@ impl RippleParams {
             hop_grains: 1.0,
             hop_exponential: true,
             bin_travels: 1.0,
+            orbit_reference: 0.1,
             stoss_face_hold: true,
             crest_suspension: 0.5,
             crest_suspension_grains: 1.0,
@@ -1025,6 +1037,16 @@ impl RippleParams {
         check_f("hop_length", self.hop_length, 0.0, 1e4, true, false)?;
         check_f("hop_grains", self.hop_grains, 0.0, 1e5, false, false)?;
         check_f("bin_travels", self.bin_travels, 0.0, 100.0, false, false)?;
+        if self.orbit_reference != 0.0 {
+            check_f(
+                "orbit_reference",
+                self.orbit_reference,
+                1e-3,
+                100.0,
+                false,
+                false,
+            )?;
+        }
         if self.bin_travels > 0.0 && self.hop_grains <= 0.0 {
             return Err(range(
                 "bin_travels",

@@ -51,6 +51,17 @@ pub fn expected_wavelength(p: &RippleParams) -> Option<f64> {
 /// The text of the recipe for mature current ripples (a ripple scenario file).
 pub const MATURE_CURRENT: &str = include_str!("../../docs/ripple_mature_current.toml");
 
+/// The text of the recipe for mature wave ripples (a ripple scenario file): the rules of the
+/// recipe for mature current ripples with a weaker leading stress, crest suspension at a fixed
+/// height and no face hold (which acts under a current only), every length in units of the
+/// waves' orbital excursion amplitude `A` (`orbit_reference`,
+/// [`RippleParams::with_orbit_scale`]): bins of `A / 50`, automata a tenth of the bin, a
+/// grain's flat-bed travel of `37.5 A` grain diameters (`A` in metres) per unit excess Shields
+/// stage, crests suspended above `A / 10`. Every factor of it was chosen in a screen; its
+/// ripples stop growing near 0.62 `d0` (0.3 mm sand, 0.4 m/s, `d0` = 0.2 to 0.4 m;
+/// docs/ripple.md).
+pub const MATURE_WAVES: &str = include_str!("../../docs/ripple_mature_waves.toml");
+
 /// A recipe: the parameters a run starts from. `cellsurf ripple` starts from
 /// [`Recipe::MatureCurrent`] where the current dominates the bed stress and from
 /// [`Recipe::Paper`] where the waves do, unless `--recipe` or `--scenario` says otherwise.
@@ -62,6 +73,9 @@ pub enum Recipe {
     Paper,
     /// `mature-current`: current ripples that stop growing ([`MATURE_CURRENT`]).
     MatureCurrent,
+    /// `mature-waves`: wave ripples whose lengths follow the orbit and that stop growing
+    /// ([`MATURE_WAVES`]).
+    MatureWaves,
 }
 
 impl Recipe {
@@ -70,6 +84,7 @@ impl Recipe {
         match self {
             Recipe::Paper => "paper",
             Recipe::MatureCurrent => "mature-current",
+            Recipe::MatureWaves => "mature-waves",
         }
     }
 
@@ -78,6 +93,7 @@ impl Recipe {
         match self {
             Recipe::Paper => "",
             Recipe::MatureCurrent => MATURE_CURRENT,
+            Recipe::MatureWaves => MATURE_WAVES,
         }
     }
 
@@ -91,7 +107,7 @@ impl Recipe {
     /// steps: the recipe for mature current ripples does, the paper's rules (whose fields
     /// coarsen without end) do not.
     pub fn runs_until_mature(self) -> bool {
-        self == Recipe::MatureCurrent
+        matches!(self, Recipe::MatureCurrent | Recipe::MatureWaves)
     }
 
     /// Whether its automata follow its bin where only the bin is given (`--bin-size` without
@@ -104,7 +120,7 @@ impl Recipe {
     /// automata following (docs/ripple.md, "The bin"). The paper's rules keep their automata
     /// (the paper gives the two apart).
     pub fn automata_follow_bin(self) -> bool {
-        self == Recipe::MatureCurrent
+        matches!(self, Recipe::MatureCurrent | Recipe::MatureWaves)
     }
 
     /// The layer thickness (m) and layers that go with `bin_size` (m) where the automata
@@ -122,10 +138,11 @@ impl FromStr for Recipe {
         match s {
             "paper" => Ok(Recipe::Paper),
             "mature-current" => Ok(Recipe::MatureCurrent),
+            "mature-waves" => Ok(Recipe::MatureWaves),
             _ => Err(RippleError::Unknown {
                 parameter: "recipe",
                 value: s.to_string(),
-                expected: "paper or mature-current",
+                expected: "paper, mature-current or mature-waves",
             }),
         }
     }
@@ -175,6 +192,48 @@ mod tests {
         assert_eq!(Recipe::Paper.params(), RippleParams::default());
         assert!(!Recipe::Paper.runs_until_mature());
         assert!(Recipe::MatureCurrent.runs_until_mature());
+        assert!(Recipe::MatureWaves.runs_until_mature());
+    }
+
+    /// The recipe for mature wave ripples sets its keys, its lengths for waves of excursion
+    /// 0.125 m, and keeps the other defaults; its lengths follow the orbit.
+    #[test]
+    fn the_mature_waves_recipe_sets_its_keys_in_units_of_the_orbit() {
+        let p = Recipe::MatureWaves.params();
+        let expected = RippleParams {
+            mode: crate::ripple::Mode::TwoD,
+            nx: 1024,
+            ny: 1,
+            orbit_reference: 0.125,
+            bin_size: 0.0025,
+            layer_thickness: 0.00025,
+            layers: 400,
+            hop_grains: 4.6875,
+            hop_exponential: true,
+            stress_lead: 2.0,
+            separation_angle: 15.0,
+            slice_layers: 6,
+            crest_suspension: 0.0125,
+            suspension_exponent: 8.0,
+            ..RippleParams::default()
+        };
+        assert_eq!(p, expected);
+        assert!(p.validate().is_ok());
+        assert!(Recipe::MatureWaves.automata_follow_bin());
+        // waves of d0 = 0.2 m (A = 0.1 m): bins of 2 mm, crests above 1 cm
+        let w = RippleParams {
+            current_speed: 0.0,
+            wave_amplitude: 0.4,
+            wave_period: 64.0,
+            wave_friction_factor: 0.0186,
+            wave_vortex: 0.1,
+            ..p
+        }
+        .with_orbit_scale();
+        assert_eq!(
+            (w.bin_size, w.crest_suspension, w.hop_grains),
+            (0.002, 0.01, 3.75)
+        );
     }
 
     /// The recipe's automata follow its bin (a tenth of it, 10 cm of sand), exactly as if
@@ -208,7 +267,7 @@ mod tests {
 
     #[test]
     fn recipe_names_round_trip_and_unknown_names_are_refused() {
-        for r in [Recipe::Paper, Recipe::MatureCurrent] {
+        for r in [Recipe::Paper, Recipe::MatureCurrent, Recipe::MatureWaves] {
             assert_eq!(r.name().parse::<Recipe>().unwrap(), r);
             assert_eq!(r.to_string(), r.name());
         }
