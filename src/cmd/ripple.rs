@@ -869,15 +869,7 @@ fn params_from(
             q.crest_suspension,
             &mut p.crest_suspension,
         );
-        let lead = if changed.is_empty() {
-            "note:".to_string()
-        } else {
-            format!(
-                "warning: the scenario's {} change{} with its orbit_reference:",
-                changed.join(", "),
-                if changed.len() == 1 { "s" } else { "" }
-            )
-        };
+        let lead = change_lead(&changed, "orbit_reference");
         let msg = format!(
             "{lead} lengths in units of the waves' orbital excursion A = {} m ({s:.4} x those of orbit_reference = {} m): --bin-size = {} m, --layer-thickness = {} m, hop_grains = {}, crest_suspension = {} m, a section of {} m",
             cellsurf::ripple::params::rounded(p.wave_vortex),
@@ -945,15 +937,7 @@ fn params_from(
         .filter(|&(k, typed, differs)| differs && !typed && keys.iter().any(|x| x == k))
         .map(|(k, _, _)| k.to_string())
         .collect();
-        let lead = if changed.is_empty() {
-            "note:".to_string()
-        } else {
-            format!(
-                "warning: the scenario's {} change{} with its bin_travels:",
-                changed.join(", "),
-                if changed.len() == 1 { "s" } else { "" }
-            )
-        };
+        let lead = change_lead(&changed, "bin_travels");
         bin_note = (!a.print_scenario).then(|| format!(
             "{lead} bins of {} flat-bed travels (bin_travels; the median grain's travel is {} m at {} m/s){}: --bin-size = {} m, --layer-thickness = {} m, --layers = {layers} ({} m of sand), {}; --bin-size gives another bin",
             cellsurf::ripple::params::shown(p.bin_travels),
@@ -1255,6 +1239,21 @@ fn check_run_memory(p: &RippleParams, snapshots: usize, volume_out: bool) -> Res
 }
 
 /// Runs the subcommand.
+/// The lead of the note on lengths a key derives (`bin_travels`, `orbit_reference`): a warning
+/// naming the scenario file's own keys it `changed` (values the run was given), a note where
+/// it changed none.
+fn change_lead(changed: &[String], by: &str) -> String {
+    if changed.is_empty() {
+        "note:".to_string()
+    } else {
+        format!(
+            "warning: the scenario's {} change{} with its {by}:",
+            changed.join(", "),
+            if changed.len() == 1 { "s" } else { "" }
+        )
+    }
+}
+
 /// Says the note on the bin: a warning (a change to values a scenario file gave) whatever
 /// `--quiet` says, a note otherwise.
 fn say_bin_note(n: &str) {
