@@ -2251,4 +2251,41 @@ fn the_mature_waves_recipe_scales_its_lengths_with_the_orbit() {
     );
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(p(&v, "bin_size"), 0.0025);
+    // without the vortex (no excursion to scale by): warned, the file's lengths
+    let (n, e) = run("1.570796327s", &["--no-wave-vortex"]);
+    assert!(
+        e.contains("warning: orbit_reference = 0.125 has no effect here"),
+        "{e}"
+    );
+    assert_eq!(p(&n, "bin_size"), 0.0025);
+    // long waves (d0 = 1.5 m, anorbital): the recipe's length against the predictor's, warned
+    let (_, e) = run("12s", &[]);
+    assert!(
+        e.contains(
+            "warning: the recipe mature-waves's ripples come to about 1.15 orbital excursions"
+        ),
+        "{e}"
+    );
+    assert!(!note.contains("warning: the recipe"), "{note}");
+    // the key's own range, named before it is applied
+    for bad in ["200", "0.0001", "-1"] {
+        let f = tmp("orbit_bad.toml");
+        std::fs::write(
+            &f,
+            format!("model = \"ripple\"\nmode = \"2d\"\nnx = 64\nny = 1\ncurrent_speed = 0\norbit_reference = {bad}\n"),
+        )
+        .unwrap();
+        let o = cellsurf(&[
+            "ripple",
+            "--scenario",
+            f.to_str().unwrap(),
+            "--wave-velocity",
+            "0.4",
+            "--wave-period",
+            "2s",
+            "--duration",
+            "50s",
+        ]);
+        assert_refused(&[bad], &o, "orbit_reference", "is out of range");
+    }
 }

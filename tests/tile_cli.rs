@@ -826,3 +826,46 @@ fn tiles_of_another_sand_depth_acoustics_or_a_section_are_refused() {
     }
     assert!(tmp("pool-f.npy").exists() && !tmp("pool-f_impedance.npy").exists());
 }
+
+/// A ripple scenario with lengths in units of the orbit (`orbit_reference`): the generated
+/// tiles' lengths are scaled to the waves' excursion and recorded so; a typed --bin-size is
+/// kept, not scaled.
+#[test]
+fn generated_tiles_scale_a_scenarios_orbit_lengths_and_keep_a_typed_bin() {
+    let f = tmp("orbit-scenario.toml");
+    std::fs::write(
+        &f,
+        "model = \"ripple\"\nmode = \"3d\"\nnx = 16\nny = 16\nlayers = 10\nsteps = 20\ncurrent_speed = 0.0\nwave_amplitude = 0.4\nwave_period_s = 3.1416\nwave_vortex = 0.2\nwave_friction_factor = 0.013\norbit_reference = 0.1\nbin_size = 0.002\nlayer_thickness = 0.0002\nhop_grains = 3.75\ncrest_suspension = 0.01\n",
+    )
+    .unwrap();
+    let run = |extra: &[&str], out: &str| {
+        let o = tmp(out);
+        let mut g = vec![
+            "tile",
+            "--generate",
+            "--ripple-scenario",
+            f.to_str().unwrap(),
+            "--json",
+            "--out",
+            o.to_str().unwrap(),
+        ];
+        g.extend_from_slice(extra);
+        let r = cellsurf(&g);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let e = String::from_utf8_lossy(&r.stderr).into_owned();
+        let text = String::from_utf8_lossy(&std::fs::read(o).unwrap()).into_owned();
+        (e, text)
+    };
+    let (e, text) = run(&[], "orbit-a.nc");
+    assert!(
+        e.contains("A = 0.2000 m (2.0000 x those of orbit_reference = 0.1 m): bin_size = 0.004 m"),
+        "{e}"
+    );
+    assert!(text.contains("bin_size = 0.004\n") && text.contains("orbit_reference = 0.2\n"));
+    let (e, text) = run(&["--bin-size", "0.003"], "orbit-b.nc");
+    assert!(
+        e.contains("bin_size = 0.003 m, layer_thickness = 0.0002 m, hop_grains = 7.5"),
+        "{e}"
+    );
+    assert!(text.contains("bin_size = 0.003\n") && !text.contains("bin_size = 0.006"));
+}

@@ -21,7 +21,7 @@ use cellsurf::ripple::equilibrium::{EARLIEST_STOP, run_until_mature};
 use cellsurf::ripple::params;
 use cellsurf::ripple::predictors::{Prediction, largest_resolving_bin, length_along};
 use cellsurf::ripple::recipe::{
-    DEFAULT_CAP_S, Recipe, TRAVELS_PER_WAVELENGTH, expected_wavelength,
+    DEFAULT_CAP_S, ORBITS_PER_WAVELENGTH, Recipe, TRAVELS_PER_WAVELENGTH, expected_wavelength,
 };
 use cellsurf::ripple::regime::Regime;
 use cellsurf::ripple::waves::{MAX_PERIOD_S, SurfaceWave, run_wave_friction_factor};
@@ -837,9 +837,36 @@ fn params_from(
         ));
     }
     // lengths in units of the waves' orbital excursion (`orbit_reference`, the recipe for
-    // mature wave ripples'): a typed --bin-size or --layer-thickness wins
+    // mature wave ripples'): a typed --bin-size or --layer-thickness wins; the key's own range
+    // first (it is recorded as the excursion once applied)
+    if p.orbit_reference != 0.0 {
+        let probe = RippleParams {
+            orbit_reference: p.orbit_reference,
+            ..RippleParams::default()
+        };
+        probe.validate()?;
+    }
+    if p.orbit_reference > 0.0 && p.orbit_scale().is_none() && p.wave_amplitude > 0.0 {
+        let why = if p.wave_vortex <= 0.0 {
+            "the lee vortex, whose reach is the waves' excursion, is off (--no-wave-vortex, or a scenario's wave_vortex = 0)"
+        } else {
+            "the current dominates the bed stress"
+        };
+        conv::note(format_args!(
+            "warning: orbit_reference = {} has no effect here: {why}; the lengths are those written for an excursion of {} m",
+            cellsurf::ripple::params::shown(p.orbit_reference),
+            cellsurf::ripple::params::shown(p.orbit_reference)
+        ));
+    }
     if let Some(s) = p.orbit_scale().filter(|&s| s != 1.0) {
         let q = p.with_orbit_scale();
+        if let Err(e) = q.validate() {
+            bail!(
+                "orbit_reference = {} scales the run's lengths by {s:.4} (the waves' excursion A = {} m): {e}",
+                cellsurf::ripple::params::shown(p.orbit_reference),
+                cellsurf::ripple::params::rounded(p.wave_vortex)
+            );
+        }
         let keys = conv::scenario_keys();
         let mut changed = Vec::new();
         let mut set = |key: &str, typed: bool, to: f64, slot: &mut f64| {
@@ -871,14 +898,25 @@ fn params_from(
         );
         let lead = change_lead(&changed, "orbit_reference");
         let msg = format!(
-            "{lead} lengths in units of the waves' orbital excursion A = {} m ({s:.4} x those of orbit_reference = {} m): --bin-size = {} m, --layer-thickness = {} m, hop_grains = {}, crest_suspension = {} m, a section of {} m",
+            "{lead} lengths in units of the waves' orbital excursion A = {} m ({s:.4} x those of orbit_reference = {} m): --bin-size = {} m, --layer-thickness = {} m, hop_grains = {}, crest_suspension = {} m, {}",
             cellsurf::ripple::params::rounded(p.wave_vortex),
             cellsurf::ripple::params::shown(p.orbit_reference),
             cellsurf::ripple::params::shown(p.bin_size),
             cellsurf::ripple::params::shown(p.layer_thickness),
             cellsurf::ripple::params::shown(p.hop_grains),
             cellsurf::ripple::params::shown(p.crest_suspension),
-            cellsurf::ripple::params::rounded(p.bin_size * p.nx as f64),
+            if p.ny > 1 {
+                format!(
+                    "a field of {} x {} m",
+                    cellsurf::ripple::params::rounded(p.bin_size * p.nx as f64),
+                    cellsurf::ripple::params::rounded(p.bin_size * p.ny as f64)
+                )
+            } else {
+                format!(
+                    "a section of {} m",
+                    cellsurf::ripple::params::rounded(p.bin_size * p.nx as f64)
+                )
+            },
         );
         p.orbit_reference = q.orbit_reference;
         if !a.print_scenario {
@@ -988,6 +1026,25 @@ fn params_from(
                     p.d50
                 ));
             }
+        }
+    }
+    // the wave recipe's ripples follow the orbit; nature's leave it outside the orbital range
+    if recipe == Some(Recipe::MatureWaves)
+        && p.orbit_scale().is_some()
+        && let Some(t) = secs.wave_period()
+    {
+        let wh = Prediction::of(p.d50, true, p.wave_amplitude, t);
+        let own = ORBITS_PER_WAVELENGTH * p.wave_vortex;
+        let ratio = own / wh.wavelength;
+        if ratio.is_finite() && !(0.8..=1.2).contains(&ratio) {
+            conv::note(format_args!(
+                "warning: the recipe {}'s ripples come to about {ORBITS_PER_WAVELENGTH} orbital excursions (1.0-1.5 measured at d0 = 0.1-0.6 m, 0.3 mm, 0.4 m/s): here {} m, {} times the {} m of {}, outside the 20 % it meets at d0 = 0.2-0.4 m; its lengths follow the orbit at every period, where nature's ripples leave it outside the orbital range (docs/ripple.md, \"A recipe for mature wave ripples\")",
+                Recipe::MatureWaves,
+                cellsurf::ripple::params::rounded(own),
+                conv::shown_outside(ratio, 0.8, 1.2),
+                cellsurf::ripple::params::rounded(wh.wavelength),
+                wh.source
+            ));
         }
     }
     // (a bin or an avalanche angle out of its own range is named by its own check)

@@ -292,7 +292,7 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
             ..p
         }
     } else {
-        p.with_orbit_scale().with_travel_bin()
+        p.with_travel_bin()
     };
     // tiles are 3-D fields: a scenario of a 2-D section (as `cellsurf ripple --print-scenario`
     // writes for its default) would make tiles of one row
@@ -307,6 +307,36 @@ fn ripple_params(a: &Args) -> Result<RippleParams> {
         secs.duration = None;
     }
     super::ripple::scenario_steps(&secs, &mut p)?;
+    // a scenario's lengths in units of the orbit (`orbit_reference`): scaled to the waves'
+    // excursion (their period in steps is known now), a typed --bin-size kept with the
+    // automata it came with
+    if let Some(s) = p.orbit_scale().filter(|&s| s != 1.0) {
+        let q = p.with_orbit_scale();
+        let r = match a.bin_size {
+            Some(_) => RippleParams {
+                bin_size: p.bin_size,
+                layer_thickness: p.layer_thickness,
+                ..q
+            },
+            None => q,
+        };
+        conv::note(format_args!(
+            "note: the scenario's lengths in units of the waves' orbital excursion A = {} m ({s:.4} x those of orbit_reference = {} m): bin_size = {} m, layer_thickness = {} m, hop_grains = {}, crest_suspension = {} m{}",
+            cellsurf::ripple::params::rounded(p.wave_vortex),
+            cellsurf::ripple::params::shown(p.orbit_reference),
+            cellsurf::ripple::params::shown(r.bin_size),
+            cellsurf::ripple::params::shown(r.layer_thickness),
+            cellsurf::ripple::params::shown(r.hop_grains),
+            cellsurf::ripple::params::shown(r.crest_suspension),
+            if a.bin_size.is_some() {
+                " (--bin-size and its automata as given)"
+            } else {
+                ""
+            }
+        ));
+        p = r;
+    }
+
     // a snapshot past the runs' steps: refused against a typed --steps (as `cellsurf ripple`
     // does), else the runs go on to it, said
     if let Some(last) = a.snapshots.as_ref().and_then(|s| s.iter().copied().max())
