@@ -40,9 +40,10 @@ pub const DEFAULT_CAP_S: f64 = 21_600.0;
 pub const TRAVELS_PER_WAVELENGTH: f64 = 66.0;
 
 /// The length of the recipe for mature wave ripples' ripples at equilibrium, in orbital
-/// excursion amplitudes `A = U_w T / (2 pi)`: 1.15, about the mean of the 1.07-1.21 measured at
-/// d0 = 0.2-0.4 m on its 2-D sections (0.3 mm sand, 0.4 m/s, seeds 1-3; 1.46 at d0 = 0.1 m and
-/// 1.02 at 0.6 m, seed 1; docs/ripple.md, "A recipe for mature wave ripples"). A measured
+/// excursion amplitudes `A = U_w T / (2 pi)`: 1.15, a round value within the 1.07-1.21 measured
+/// at d0 = 0.2-0.4 m on its 2-D sections (means of seeds 1-3, whose mean is 1.12; 0.3 mm sand,
+/// 0.4 m/s) and the 1.02-1.46 of d0 = 0.1-0.6 m (seed 1; docs/ripple.md, "A recipe for mature
+/// wave ripples"). A measured
 /// property of the recipe, not an input: all of its lengths are in units of `A`, so its
 /// ripples follow the orbit at every period, where nature's leave it outside the orbital
 /// range; `cellsurf ripple` warns where `1.15 A` is more than 20 % off Wiberg & Harris's.
